@@ -1,0 +1,56 @@
+// Binned-SAH BVH built on the host in the GPU node layout (gpu::GpuBvhNode), plus the CPU
+// traversal the tests use as the reference for shaders/lib/bvh.glsl.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "vktg/gpu/shared.h"
+
+namespace vktg {
+
+struct BvhTriangle {
+  glm::vec3 p0, p1, p2;
+};
+
+struct Bvh {
+  std::vector<gpu::GpuBvhNode> nodes;  // nodes[0] is the root
+  std::vector<uint32_t> order;         // leaf order: order[i] = input index of the i-th triangle
+};
+
+// Entries of the traversal stack (here and in shaders/lib/bvh.glsl): the builder keeps every leaf at
+// depth <= maxDepth <= kBvhStackSize (root = depth 0), and near-first traversal never holds more
+// entries than the depth of the node it is at.
+inline constexpr uint32_t kBvhStackSize = 64;
+
+struct BvhBuildOptions {
+  uint32_t bins = 16;            // SAH bins per axis
+  uint32_t maxLeafSize = 4;      // leaves never exceed this many triangles unless they cannot split
+  float traversalCost = 1.0f;    // SAH cost of a node visit relative to a triangle test
+  uint32_t maxDepth = kBvhStackSize;  // deepest leaf; near the limit SAH gives way to median splits
+};
+
+Bvh buildBvh(std::span<const BvhTriangle> triangles, const BvhBuildOptions& options = {});
+
+struct RayHit {
+  float t = 0;
+  float u = 0, v = 0;       // barycentrics: p = (1-u-v) p0 + u p1 + v p2
+  uint32_t triangle = 0;    // index in leaf order (as on the GPU)
+};
+
+// Watertight-enough Möller–Trumbore as in shaders/lib/intersect.glsl; both faces hit.
+std::optional<RayHit> intersectTriangle(const BvhTriangle& tri, glm::vec3 origin, glm::vec3 dir,
+                                        float tMin, float tMax);
+// `triangles` in leaf order (triangles[i] = input[order[i]]).
+std::optional<RayHit> traceClosest(const Bvh& bvh, std::span<const BvhTriangle> triangles,
+                                   glm::vec3 origin, glm::vec3 dir, float tMin, float tMax);
+bool traceAny(const Bvh& bvh, std::span<const BvhTriangle> triangles, glm::vec3 origin, glm::vec3 dir,
+              float tMin, float tMax);
+// Brute force over all triangles (tests' ground truth).
+std::optional<RayHit> traceClosestBruteForce(std::span<const BvhTriangle> triangles, glm::vec3 origin,
+                                             glm::vec3 dir, float tMin, float tMax);
+
+}  // namespace vktg

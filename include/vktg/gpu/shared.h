@@ -1,0 +1,186 @@
+// Structs, bindings and constants shared by C++ and GLSL: the one definition of every GPU layout.
+// Everything is std430 and built from 16-byte vec4/uvec4 members so both sides agree without
+// padding rules; src/host/gpu_layout_checks.cpp static_asserts the sizes.
+#ifndef VKTG_GPU_SHARED_H
+#define VKTG_GPU_SHARED_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace vktg::gpu {
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using uint = uint32_t;
+#define VKTG_CONST(type, name, value) inline constexpr type name = value
+#else
+#define VKTG_CONST(type, name, value) const type name = value
+#endif
+
+VKTG_CONST(uint, kWorkgroupSize, 64);
+// Buffers larger than maxStorageBufferRange are split into up to this many bindings.
+VKTG_CONST(uint, kMaxBufferChunks, 4);
+
+// ---- Enumerations -----------------------------------------------------------------------------
+VKTG_CONST(uint, kMaterialDiffuse, 0);
+VKTG_CONST(uint, kMaterialConductor, 1);   // rough conductor, GGX, scalar reflectance "albedo"
+VKTG_CONST(uint, kMaterialDielectric, 2);  // rough dielectric, GGX, IOR
+VKTG_CONST(uint, kMaterialCount, 3);
+
+VKTG_CONST(uint, kGateSteady, 0);
+VKTG_CONST(uint, kGateGaussian, 1);
+VKTG_CONST(uint, kGateBox, 2);
+VKTG_CONST(uint, kGateTruncatedGaussian, 3);
+VKTG_CONST(uint, kGateBins, 4);
+
+VKTG_CONST(uint, kCameraPerspective, 0);
+VKTG_CONST(uint, kCameraPointSensor, 1);
+
+VKTG_CONST(uint, kLightAreaTriangle, 0);
+VKTG_CONST(uint, kLightPoint, 1);
+
+VKTG_CONST(uint, kNeeStandard, 0);
+VKTG_CONST(uint, kNeeEllipsoidal, 1);
+
+// Bits of PathState.ids.w
+VKTG_CONST(uint, kPathFlagAfterTransmission, 1);
+
+// Indices into the Counters buffer (uint array).
+VKTG_CONST(uint, kCounterRays0, 0);          // ray queue 0 size
+VKTG_CONST(uint, kCounterRays1, 1);          // ray queue 1 size
+VKTG_CONST(uint, kCounterShadow, 2);         // shadow queue size
+VKTG_CONST(uint, kCounterExtensionRays, 3);  // statistics from here on
+VKTG_CONST(uint, kCounterShadowRays, 4);
+VKTG_CONST(uint, kCounterEndedByGate, 5);    // paths ended because their length passed the gate
+VKTG_CONST(uint, kCounterEndedByRoulette, 6);
+VKTG_CONST(uint, kCounterEndedByDepth, 7);
+VKTG_CONST(uint, kCounterNonFinite, 8);      // NaN/Inf contributions dropped (must stay 0)
+VKTG_CONST(uint, kCounterEllipsoidQueries, 9);
+VKTG_CONST(uint, kCounterEllipsoidEmpty, 10);  // queries whose shell met no surface
+VKTG_CONST(uint, kCounterCount, 16);
+
+// Indices of VkDispatchIndirectCommand records in the dispatch-args buffer.
+VKTG_CONST(uint, kArgsRays, 0);
+VKTG_CONST(uint, kArgsShadow, 1);
+VKTG_CONST(uint, kArgsCount, 2);
+
+// ---- Descriptor bindings (set 0, one layout shared by every pass) ----------------------------
+VKTG_CONST(uint, kBindingFrame, 0);          // uniform FrameUniforms
+VKTG_CONST(uint, kBindingTriangles, 1);      // GpuTriangle[], kMaxBufferChunks bindings: 1..4
+VKTG_CONST(uint, kBindingBvhNodes, 5);       // GpuBvhNode[], chunks 5..8
+VKTG_CONST(uint, kBindingTriangleVerts, 9);  // uvec4[] vertex indices + shape, BVH order
+VKTG_CONST(uint, kBindingVertices, 10);      // vec4[] vertex positions
+VKTG_CONST(uint, kBindingShapes, 11);        // GpuShape[]
+VKTG_CONST(uint, kBindingMaterials, 12);     // GpuMaterial[]
+VKTG_CONST(uint, kBindingLights, 13);        // GpuLight[] with CDF
+VKTG_CONST(uint, kBindingPaths, 14);         // PathState[batch]
+VKTG_CONST(uint, kBindingHits, 15);          // HitRecord[batch]
+VKTG_CONST(uint, kBindingRayQueues, 16);     // uint[2 * batch]: two path-index queues by depth parity
+VKTG_CONST(uint, kBindingShadowQueue, 17);   // ShadowRay[kShadowRaysPerPath * batch]
+VKTG_CONST(uint, kBindingCounters, 18);      // uint[kCounterCount]
+VKTG_CONST(uint, kBindingDispatchArgs, 19);  // uint[3 * kArgsCount]
+VKTG_CONST(uint, kBindingPathAccum, 20);     // float[batch * bins * channels], per-path sums
+VKTG_CONST(uint, kBindingFilm, 21);          // float[bins * pixels * channels], chunks 21..24
+VKTG_CONST(uint, kBindingFilmSq, 25);        // same layout, sums of squares, chunks 25..28
+VKTG_CONST(uint, kBindingTestIn, 29);        // test kernels only
+VKTG_CONST(uint, kBindingTestOut, 30);       // test kernels only
+VKTG_CONST(uint, kBindingCount, 31);
+
+// At most this many shadow rays a path can queue per bounce (standard + ellipsoidal NEE,
+// plus the point sensor's connections queued by generate_camera_rays).
+VKTG_CONST(uint, kShadowRaysPerPath, 3);
+
+// ---- Specialisation constants (ids) and push constants of the passes ---------------------------
+VKTG_CONST(uint, kSpecMaterialMask, 0);   // bit per kMaterial* present in the scene
+VKTG_CONST(uint, kSpecNeeMode, 1);        // kNeeStandard / kNeeEllipsoidal
+VKTG_CONST(uint, kSpecGateType, 2);       // kGate*
+VKTG_CONST(uint, kSpecCameraType, 3);     // kCamera*
+VKTG_CONST(uint, kSpecLightMask, 4);      // bit kLightAreaTriangle / kLightPoint present
+VKTG_CONST(uint, kSpecCount, 5);
+
+struct PassPush {
+  uvec4 args;  // x: first pixel-sample index of the batch, y: first sample index, z: depth, w: pass-specific
+};
+
+// ---- Scene -----------------------------------------------------------------------------------
+// Triangle in BVH leaf order. p0.w holds the shape index, p1.w the original triangle index
+// (both as uint bits), p2.w the triangle's area.
+struct GpuTriangle {
+  vec4 p0;
+  vec4 p1;
+  vec4 p2;
+};
+
+// Two-wide BVH node holding both children's boxes (one fetch tests both). A node with
+// count > 0 is a leaf covering triangles [first, first + count); its boxes are unused.
+struct GpuBvhNode {
+  vec4 leftMinLeftIndex;    // xyz: left child box min, w: left child node index (uint bits)
+  vec4 leftMaxRightIndex;   // xyz: left child box max, w: right child node index (uint bits)
+  vec4 rightMinCount;       // xyz: right child box min, w: leaf triangle count (uint bits)
+  vec4 rightMaxFirst;       // xyz: right child box max, w: leaf first triangle (uint bits)
+};
+
+struct GpuShape {
+  uint material;
+  float emission;    // emitted radiance of the front face (W sr^-1 m^-2); 0 = not an emitter
+  uint firstTriangle;
+  uint triangleCount;
+};
+
+struct GpuMaterial {
+  uint type;         // kMaterial*
+  float albedo;      // diffuse reflectance / conductor specular reflectance / dielectric tint
+  float roughness;   // GGX alpha
+  float ior;         // dielectric index of refraction (inside / outside)
+};
+
+// One entry of the light-selection CDF: an emissive triangle or a point light.
+struct GpuLight {
+  vec4 positionIntensity;  // point light: xyz position, w intensity (W/sr); area: unused
+  uint type;               // kLight*
+  uint triangle;           // area light: index into the BVH-ordered triangle array
+  float cdf;               // inclusive CDF of selection probabilities
+  float pmf;               // selection probability
+};
+
+// ---- Per-frame constants -----------------------------------------------------------------------
+struct FrameUniforms {
+  vec4 cameraPosition;    // xyz; w: unused
+  vec4 cameraForward;     // perspective: unit view direction; point sensor: unit normal
+  vec4 cameraRight;       // scaled by tan(fov_y/2) * aspect
+  vec4 cameraUp;          // scaled by tan(fov_y/2)
+  uvec4 image;            // x: width, y: height, z: spp, w: seed
+  uvec4 sceneCounts;      // x: triangles, y: lights, z: shapes, w: camera type
+  vec4 gate;              // gaussian/tgauss: (mu, sigma, a, b); box: (-, -, a, b); bins: (start, width, -, -)
+  vec4 gateSupport;       // x: support min, y: support max, z: integral of W (for gate sampling), w: gaussian normaliser
+  uvec4 gateInfo;         // x: gate type, y: bin count, z: nee mode, w: max depth
+  uvec4 pathInfo;         // x: roulette depth, y: first vertex with an ellipsoidal connection, z: channels, w: batch size
+  vec4 sceneInfo;         // x: ray epsilon (scene-scale relative), y: scene diagonal, z: total light power, w: unused
+  uvec4 chunkShift;       // log2 of elements per chunk: x triangles, y BVH nodes, z film floats, w unused
+};
+
+// ---- Wavefront state ---------------------------------------------------------------------------
+struct PathState {
+  vec4 position;    // xyz: current vertex (un-offset, exact); w: optical path length so far
+  vec4 direction;   // xyz: direction of the next segment; w: Kahan compensation of the length
+  vec4 normal;      // xyz: geometric normal at the vertex; w: throughput (f cos / pdf products)
+  vec4 misc;        // x: solid-angle pdf of the last BSDF sample (MIS); y: IOR of the medium the
+                    // next segment travels in; z, w: unused
+  uvec4 ids;        // x: pixel, y: sample index, z: depth (vertices after x0), w: flags
+};
+
+struct HitRecord {
+  vec4 tuvTriangle;  // x: t (< 0 for a miss), y, z: barycentrics u, v, w: triangle (uint bits)
+};
+
+// A deferred contribution tested for visibility: one segment (standard NEE) or two (ellipsoidal).
+struct ShadowRay {
+  vec4 p0Value;      // xyz: first point, w: contribution if visible
+  vec4 p1Length;     // xyz: second point, w: total optical path length of the path
+  vec4 p2;           // xyz: third point (two-segment rays only)
+  uvec4 info;        // x: path index, y: segment count (1 or 2), z, w: unused
+};
+
+#ifdef __cplusplus
+}  // namespace vktg::gpu
+#endif
+#endif

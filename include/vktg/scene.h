@@ -1,0 +1,89 @@
+// The in-memory scene: what the parser produces and the renderer uploads. Units: metres,
+// radiance in W sr^-1 m^-2, point-light intensity in W sr^-1, angles in degrees in files.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "vktg/gate.h"
+
+namespace vktg {
+
+enum class MaterialType : uint32_t { Diffuse = 0, Conductor = 1, Dielectric = 2 };
+
+struct Material {
+  std::string name;
+  MaterialType type = MaterialType::Diffuse;
+  float albedo = 0.8f;     // reflectance in [0, 1]
+  float roughness = 0.2f;  // GGX alpha in [1e-3, 1] (conductor, dielectric)
+  float ior = 1.5f;        // dielectric, > 1
+};
+
+// A triangle mesh in world space (transforms already applied).
+struct Shape {
+  std::string name;
+  std::vector<glm::vec3> positions;
+  std::vector<glm::uvec3> triangles;  // indices into positions
+  uint32_t material = 0;              // index into Scene::materials
+  float emission = 0.0f;              // radiance emitted from the front face (winding order)
+};
+
+struct PointLight {
+  std::string name;
+  glm::vec3 position{0.0f};
+  float intensity = 1.0f;  // W/sr, isotropic
+};
+
+enum class CameraType : uint32_t { Perspective = 0, PointSensor = 1 };
+
+struct Camera {
+  CameraType type = CameraType::Perspective;
+  glm::vec3 position{0.0f, 0.0f, 3.0f};
+  glm::vec3 lookAt{0.0f};          // perspective
+  glm::vec3 up{0.0f, 1.0f, 0.0f};  // perspective
+  float fovY = 40.0f;              // degrees, perspective
+  uint32_t width = 64, height = 64;  // perspective; a point sensor is 1x1
+  glm::vec3 normal{0.0f, 0.0f, -1.0f};  // point sensor: cosine-weighted irradiance around this normal
+};
+
+enum class NeeMode : uint32_t { Auto = 0, Standard = 1, Ellipsoidal = 2, Mis = 3 };
+
+struct RenderSettings {
+  uint32_t spp = 16;
+  uint32_t maxDepth = 16;      // vertices after the camera; gates usually end paths sooner
+  uint32_t rouletteDepth = 4;  // Russian roulette from this depth on (where the gate allows)
+  uint32_t seed = 0;
+  NeeMode nee = NeeMode::Auto;
+};
+
+struct Scene {
+  std::filesystem::path source;  // file the scene came from (empty for the built-in default)
+  std::vector<Material> materials;
+  std::vector<Shape> shapes;
+  std::vector<PointLight> pointLights;
+  Camera camera;
+  Gate gate;
+  RenderSettings render;
+
+  size_t triangleCount() const;
+  bool hasEmitters() const;
+};
+
+// Loads a `.json` scene file or a plain `.gltf`/`.glb`. Throws vktg::Error ("file: field: problem").
+Scene loadScene(const std::filesystem::path& path);
+// Parses scene JSON text; `file` names the source in errors, `baseDir` resolves relative paths.
+Scene parseSceneJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir);
+// Loads a glTF 2.0 file as a whole scene (meshes, materials, emissive meshes, first camera).
+Scene loadGltfScene(const std::filesystem::path& path);
+// Appends the meshes of a glTF file to `scene` as shapes (used by the JSON `mesh` shape).
+void appendGltfShapes(Scene& scene, const std::filesystem::path& path, uint32_t defaultMaterial,
+                      const glm::mat4& transform, float emission, const std::string& shapeName);
+// The built-in default: a Cornell-box-like room seen by a box-gated ToF camera.
+Scene defaultScene();
+// Axis-aligned bounds of all shapes, lights and the camera.
+void sceneBounds(const Scene& scene, glm::vec3& lo, glm::vec3& hi);
+
+}  // namespace vktg

@@ -1,0 +1,59 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Pass generate_camera_rays: starts one path per (pixel, sample) of the batch.
+// Reads: frame (camera), push.args (x first pixel-sample index, w active paths).
+// Writes: paths[i], ray queue 0 (+ its counter); at a point sensor also the shadow queue (NEE
+// from the sensor itself: direct light and, in ellipsoidal mode, one-bounce connections).
+// Dispatch: ceil(batch / kWorkgroupSize) groups.
+#include "lib/common.glsl"
+#include "lib/bindings.glsl"
+#include "lib/rng.glsl"
+#include "lib/nee.glsl"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(push_constant) uniform Push { PassPush push; };
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= push.args.w) return;
+  uint pixels = frame.image.x * frame.image.y;
+  uint linear = push.args.x + i;
+  uint pixel = linear % pixels;
+  uint sampleIndex = push.args.y + linear / pixels;
+  Rng rng = rngCreate(pixel, sampleIndex, kRngDimCamera, frame.image.w);
+  vec4 u = rngNext4(rng);
+
+  PathState ps;
+  ps.position = vec4(frame.cameraPosition.xyz, 0.0);
+  ps.ids = uvec4(pixel, sampleIndex, 0u, 0u);
+  ps.misc = vec4(0.0, 1.0, 0.0, 0.0);
+  if (kSpecCameraTypeValue == kCameraPerspective) {
+    float px = (float(pixel % frame.image.x) + u.x) / float(frame.image.x);
+    float py = (float(pixel / frame.image.x) + u.y) / float(frame.image.y);
+    vec3 dir = normalize(frame.cameraForward.xyz + (2.0 * px - 1.0) * frame.cameraRight.xyz +
+                         (1.0 - 2.0 * py) * frame.cameraUp.xyz);
+    ps.direction = vec4(dir, 0.0);
+    ps.normal = vec4(frame.cameraForward.xyz, 1.0);
+  } else {
+    // Cosine-weighted direction about the sensor normal: importance cos / pdf = pi.
+    vec3 n = frame.cameraForward.xyz;
+    vec3 t, b;
+    basisFromNormal(n, t, b);
+    vec3 local = sampleCosineHemisphere(u.xy);
+    vec3 dir = normalize(local.x * t + local.y * b + local.z * n);
+    ps.direction = vec4(dir, 0.0);
+    ps.normal = vec4(n, kPi);
+    ps.misc.x = max(local.z, 0.0) * kInvPi;
+    NeeVertex v;
+    v.position = ps.position.xyz;
+    v.normal = n;
+    v.wi = n;
+    v.isSensor = true;
+    v.throughput = 1.0;
+    v.len = 0.0;
+    neeAtVertex(i, v, 0u, pixel, sampleIndex);
+  }
+  paths[i] = ps;
+  uint slot = atomicAdd(counters[kCounterRays0], 1u);
+  rayQueues[slot] = i;
+}

@@ -1,0 +1,56 @@
+// Time gates W(L) (THEORY.md §1) and gate sampling for ellipsoidal connections. The gate type is
+// a specialisation constant; its numbers come from frame.gate / frame.gateSupport.
+// Must match src/scene/gate.cpp (Gate::weight), which tests use as the reference.
+#ifndef VKTG_GATE_GLSL
+#define VKTG_GATE_GLSL
+#include "lib/specialization.glsl"
+
+const float kGaussianCutoff = 6.5;
+const float kSqrtTwoPi = 2.50662827463100050242;
+
+// W_k(L) for layer k (k = 0 unless the gate is a stack of bins).
+float gateWeight(float len, uint layer) {
+  if (kSpecGateTypeValue == kGateSteady) return 1.0;
+  if (kSpecGateTypeValue == kGateGaussian) {
+    float d = len - frame.gate.x;
+    if (abs(d) > kGaussianCutoff * frame.gate.y) return 0.0;
+    float z = d / frame.gate.y;
+    return exp(-0.5 * z * z) * frame.gateSupport.w;
+  }
+  if (kSpecGateTypeValue == kGateBox) return (len >= frame.gate.z && len <= frame.gate.w) ? 1.0 : 0.0;
+  if (kSpecGateTypeValue == kGateTruncatedGaussian) {
+    if (len < frame.gate.z || len > frame.gate.w) return 0.0;
+    float z = (len - frame.gate.x) / frame.gate.y;
+    return exp(-0.5 * z * z);
+  }
+  float lo = frame.gate.x + frame.gate.y * float(layer);
+  return (len >= lo && len < lo + frame.gate.y) ? 1.0 : 0.0;
+}
+
+// The layers whose weight can be non-zero at L: [first, first + count).
+void gateLayers(float len, out uint first, out uint count) {
+  first = 0u;
+  count = 1u;
+  if (kSpecGateTypeValue != kGateBins) return;
+  float k = floor((len - frame.gate.x) / frame.gate.y);
+  if (k < 0.0 || k >= float(frame.gateInfo.y)) { count = 0u; return; }
+  first = uint(k);
+}
+
+// Draws a total path length s for an ellipsoidal connection and returns 1 / p(s), or 0 when the
+// draw falls outside the support (which the estimator then counts as a zero: still unbiased).
+// gaussian: normal N(mu, sigma) (W / p is the constant sigma sqrt(2 pi) times the normaliser);
+// box, truncated gaussian, bins: uniform over the support.
+float gateSampleLength(vec2 u, out float s) {
+  if (kSpecGateTypeValue == kGateGaussian) {
+    // Box–Muller; 1 - u.x is in (0, 1], so the log is finite.
+    float radius = sqrt(-2.0 * log(1.0 - u.x));
+    s = frame.gate.x + frame.gate.y * radius * cos(6.28318530717958647692 * u.y);
+    float z = (s - frame.gate.x) / frame.gate.y;
+    return frame.gate.y * kSqrtTwoPi * exp(0.5 * z * z);
+  }
+  float lo = frame.gateSupport.x, hi = frame.gateSupport.y;
+  s = mix(lo, hi, u.x);
+  return hi - lo;
+}
+#endif

@@ -1,0 +1,116 @@
+// Next-event estimation from a path vertex: standard (connect to a light sample, MIS with BSDF
+// sampling) and ellipsoidal (THEORY.md §4: draw a total length s from the gate, a light point y,
+// and a new vertex on the ellipsoid with foci x and y, so the path lands exactly at length s).
+// Both queue shadow rays; trace_shadow_rays adds their value if every segment is unoccluded.
+#ifndef VKTG_NEE_GLSL
+#define VKTG_NEE_GLSL
+#include "lib/bsdf.glsl"
+#include "lib/ellipsoid.glsl"
+#include "lib/lights.glsl"
+#include "lib/path.glsl"
+
+// The vertex NEE starts from. At the point sensor (isSensor) the "BSDF" is the sensor's
+// importance: 1 per unit projected solid angle on the side of `normal` (irradiance).
+struct NeeVertex {
+  vec3 position;
+  vec3 normal;
+  vec3 wi;
+  GpuMaterial material;
+  bool isSensor;
+  float throughput;
+  float len;
+};
+
+float vertexEval(NeeVertex v, vec3 wo) {
+  return v.isSensor ? (dot(v.normal, wo) > 0.0 ? 1.0 : 0.0) : bsdfEval(v.material, v.normal, v.wi, wo);
+}
+
+float vertexPdf(NeeVertex v, vec3 wo) {
+  return v.isSensor ? max(dot(v.normal, wo), 0.0) * kInvPi : bsdfPdf(v.material, v.normal, v.wi, wo);
+}
+
+void standardNee(uint path, NeeVertex v, vec3 u) {
+  LightSample ls;
+  if (!sampleLight(u, ls)) return;
+  vec3 d = ls.position - v.position;
+  float dist2 = dot(d, d);
+  if (!(dist2 > 0.0)) return;
+  float dist = sqrt(dist2);
+  vec3 wo = d / dist;
+  float f = vertexEval(v, wo);
+  if (f == 0.0) return;
+  float cosX = abs(dot(v.normal, wo));
+  float value;
+  if (ls.isPoint) {
+    value = v.throughput * f * cosX * ls.emission / (dist2 * ls.pdf);
+  } else {
+    float cosY = dot(ls.normal, -wo);
+    if (cosY <= 0.0) return;
+    float pdfLight = ls.pdf * dist2 / cosY;  // solid angle at x
+    float mis = powerHeuristic(pdfLight, vertexPdf(v, wo));
+    value = v.throughput * f * cosX * ls.emission * cosY / (dist2 * ls.pdf) * mis;
+  }
+  float len = v.len, comp = 0.0;
+  addLength(len, comp, dist);
+  queueShadowRay(path, v.position, ls.position, vec3(0.0), 1u, value, len);
+}
+
+void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllipsoid) {
+  float s;
+  float invPdfS = gateSampleLength(uGate, s);
+  if (!(invPdfS > 0.0)) return;
+  LightSample ls;
+  if (!sampleLight(uLight, ls)) return;
+  float sPrime = s - v.len;
+  // The shell must be longer than the straight line x -> y; otherwise no path of length s exists.
+  if (!(sPrime > distance(v.position, ls.position))) return;
+  atomicAdd(counters[kCounterEllipsoidQueries], 1u);
+  EllipsoidSample es;
+  if (!sampleEllipsoidConnection(v.position, ls.position, sPrime, uEllipsoid, es)) {
+    atomicAdd(counters[kCounterEllipsoidEmpty], 1u);
+    return;
+  }
+  SurfacePoint xk = surfacePoint(es.triangle, es.barycentrics);
+  vec3 d1 = xk.position - v.position;
+  vec3 d2 = ls.position - xk.position;
+  float len1 = length(d1), len2 = length(d2);
+  if (!(len1 > 0.0) || !(len2 > 0.0)) return;
+  vec3 w1 = d1 / len1, w2 = d2 / len2;
+  float f1 = vertexEval(v, w1);
+  if (f1 == 0.0) return;
+  GpuMaterial mk = materials[shapes[xk.shape].material];
+  float f2 = bsdfEval(mk, xk.normal, -w1, w2);
+  if (f2 == 0.0) return;
+  float g1 = abs(dot(v.normal, w1)) * abs(dot(xk.normal, w1)) / (len1 * len1);
+  float g2 = abs(dot(xk.normal, w2)) / (len2 * len2);
+  if (!ls.isPoint) {
+    float cosY = dot(ls.normal, -w2);
+    if (cosY <= 0.0) return;
+    g2 *= cosY;
+  }
+  float value = v.throughput * f1 * g1 * f2 * g2 * ls.emission * es.weight * invPdfS / ls.pdf;
+  queueShadowRay(path, v.position, xk.position, ls.position, 2u, value, s);
+}
+
+// Which estimator covers which paths (pathInfo.y = e, the first vertex that can start an
+// ellipsoidal connection: 0 at a point sensor, 1 behind a pinhole): in ellipsoidal mode, paths
+// with at most e + 1 segments use standard NEE (and emitter hits), longer ones ellipsoidal NEE.
+bool standardNeeAt(uint depth) { return kSpecNeeModeValue == kNeeStandard || depth <= frame.pathInfo.y; }
+bool ellipsoidalNeeAt(uint depth) { return kSpecNeeModeValue == kNeeEllipsoidal && depth >= frame.pathInfo.y; }
+// An emitter hit at vertex `depth` closes a path of `depth` segments.
+bool emitterHitCounts(uint depth) { return kSpecNeeModeValue == kNeeStandard || depth <= frame.pathInfo.y + 1u; }
+
+void neeAtVertex(uint path, NeeVertex v, uint depth, uint pixel, uint sampleIndex) {
+  uint seed = frame.image.w;
+  if (standardNeeAt(depth)) {
+    Rng r = rngForBounce(pixel, sampleIndex, depth, kRngSlotLight, seed);
+    standardNee(path, v, rngNext4(r).xyz);
+  }
+  if (ellipsoidalNeeAt(depth)) {
+    Rng rg = rngForBounce(pixel, sampleIndex, depth, kRngSlotGate, seed);
+    Rng rl = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoidLight, seed);
+    Rng re = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoid, seed);
+    ellipsoidalNee(path, v, rngNext4(rg).xy, rngNext4(rl).xyz, rngNext4(re));
+  }
+}
+#endif

@@ -1,0 +1,65 @@
+// Helpers on path state shared by the passes: compensated path length, contributions into the
+// per-path accumulator (one slot per gate layer), shadow-ray queueing, vertex reconstruction.
+#ifndef VKTG_PATH_GLSL
+#define VKTG_PATH_GLSL
+#include "lib/gate.glsl"
+
+// Kahan-compensated addition of a segment to the path length: lengths of many segments summed in
+// float lose the millimetres a narrow gate resolves.
+void addLength(inout float len, inout float compensation, float segment) {
+  float y = segment - compensation;
+  float t = len + y;
+  compensation = (t - len) - y;
+  len = t;
+}
+
+// Adds W_k(L) * value to every layer k of the path's accumulator; non-finite values are counted
+// (kCounterNonFinite, which must stay 0) instead of entering the image.
+void addContribution(uint path, float value, float len) {
+  if (isnan(value) || isinf(value) || isnan(len) || isinf(len)) {
+    atomicAdd(counters[kCounterNonFinite], 1u);
+    return;
+  }
+  if (value == 0.0) return;
+  uint first, count;
+  gateLayers(len, first, count);
+  uint layers = frame.gateInfo.y;
+  for (uint k = first; k < first + count; ++k) {
+    float w = gateWeight(len, k);
+    if (w != 0.0) atomicAdd(pathAccum[path * layers + k], w * value);
+  }
+}
+
+void queueShadowRay(uint path, vec3 p0, vec3 p1, vec3 p2, uint segments, float value, float len) {
+  if (value == 0.0) return;
+  uint slot = atomicAdd(counters[kCounterShadow], 1u);
+  ShadowRay r;
+  r.p0Value = vec4(p0, value);
+  r.p1Length = vec4(p1, len);
+  r.p2 = vec4(p2, 0.0);
+  r.info = uvec4(path, segments, 0u, 0u);
+  shadowRays[slot] = r;
+}
+
+// Point, geometric normal and shape of a hit, from its barycentrics (the exact surface point:
+// path lengths are measured between these un-offset vertices).
+struct SurfacePoint {
+  vec3 position;
+  vec3 normal;
+  uint shape;
+};
+
+SurfacePoint surfacePoint(uint triangle, vec2 uv) {
+  GpuTriangle t = loadTriangle(triangle);
+  SurfacePoint sp;
+  sp.position = (1.0 - uv.x - uv.y) * t.p0.xyz + uv.x * t.p1.xyz + uv.y * t.p2.xyz;
+  sp.normal = normalize(cross(t.p1.xyz - t.p0.xyz, t.p2.xyz - t.p0.xyz));
+  sp.shape = floatBitsToUint(t.p0.w);
+  return sp;
+}
+
+float powerHeuristic(float a, float b) {
+  float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
+}
+#endif

@@ -1,0 +1,13 @@
+// Specialisation constants (ids in vktg/gpu/shared.h): the planner sets them per scene so the
+// driver compiles only the code that scene needs (materials, lights, gate, estimator, camera).
+#ifndef VKTG_SPECIALIZATION_GLSL
+#define VKTG_SPECIALIZATION_GLSL
+layout(constant_id = 0) const uint kSpecMaterialMaskValue = 7u;
+layout(constant_id = 1) const uint kSpecNeeModeValue = 0u;
+layout(constant_id = 2) const uint kSpecGateTypeValue = 0u;
+layout(constant_id = 3) const uint kSpecCameraTypeValue = 0u;
+layout(constant_id = 4) const uint kSpecLightMaskValue = 3u;
+
+bool sceneHasLightType(uint type) { return (kSpecLightMaskValue & (1u << type)) != 0u; }
+bool sceneHasMaterial(uint type) { return (kSpecMaterialMaskValue & (1u << type)) != 0u; }
+#endif

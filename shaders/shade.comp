@@ -1,0 +1,98 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Pass shade: one path vertex per queued ray. Adds emission of hit emitters (MIS-weighted),
+// ends paths whose length passed the gate's support, queues next-event estimation (standard or
+// ellipsoidal), samples the BSDF, applies Russian roulette where the gate allows, and queues the
+// continuing path for the next depth.
+// Reads: ray queue (parity push.args.z & 1), hits[], paths[], scene. Writes: paths[], pathAccum,
+// shadow queue, the other ray queue, statistics counters. Dispatch: indirect (ray queue size).
+#include "lib/common.glsl"
+#include "lib/bindings.glsl"
+#include "lib/rng.glsl"
+#include "lib/nee.glsl"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(push_constant) uniform Push { PassPush push; };
+
+void main() {
+  uint parity = push.args.z & 1u;
+  uint index = gl_GlobalInvocationID.x;
+  if (index >= counters[kCounterRays0 + parity]) return;
+  uint batch = frame.pathInfo.w;
+  uint path = rayQueues[parity * batch + index];
+  PathState ps = paths[path];
+  HitRecord hit = hits[path];
+  if (hit.tuvTriangle.x < 0.0) return;  // escaped: no environment light
+
+  uint pixel = ps.ids.x, sampleIndex = ps.ids.y;
+  uint depth = ps.ids.z + 1u;
+  SurfacePoint sp = surfacePoint(floatBitsToUint(hit.tuvTriangle.w), hit.tuvTriangle.yz);
+  vec3 wi = -ps.direction.xyz;
+  float len = ps.position.w, comp = ps.direction.w;
+  addLength(len, comp, distance(ps.position.xyz, sp.position) * ps.misc.y);
+  float throughput = ps.normal.w;
+
+  GpuShape shape = shapes[sp.shape];
+  if (shape.emission > 0.0 && dot(sp.normal, wi) > 0.0 && emitterHitCounts(depth)) {
+    // MIS against the standard NEE of the previous vertex, when that vertex did one (the
+    // pinhole never does; the point sensor does).
+    uint previous = depth - 1u;
+    bool previousDidNee = (previous > 0u || kSpecCameraTypeValue == kCameraPointSensor) && standardNeeAt(previous);
+    float mis = 1.0;
+    if (previousDidNee) {
+      float dist = distance(ps.position.xyz, sp.position);
+      float pdfLight = areaLightPdf(shape.emission) * dist * dist / dot(sp.normal, wi);
+      mis = powerHeuristic(ps.misc.x, pdfLight);
+    }
+    addContribution(path, throughput * shape.emission * mis, len);
+  }
+
+  // Nothing can reach the gate any more: every extension only makes the path longer.
+  if (len > frame.gateSupport.y) {
+    atomicAdd(counters[kCounterEndedByGate], 1u);
+    return;
+  }
+
+  NeeVertex v;
+  v.position = sp.position;
+  v.normal = sp.normal;
+  v.wi = wi;
+  v.material = materials[shape.material];
+  v.isSensor = false;
+  v.throughput = throughput;
+  v.len = len;
+  neeAtVertex(path, v, depth, pixel, sampleIndex);
+
+  if (depth >= frame.gateInfo.w) {
+    atomicAdd(counters[kCounterEndedByDepth], 1u);
+    return;
+  }
+  Rng rb = rngForBounce(pixel, sampleIndex, depth, kRngSlotBsdf, frame.image.w);
+  BsdfSample bs;
+  if (!bsdfSample(v.material, sp.normal, wi, rngNext4(rb).xyz, bs)) return;
+  throughput *= bs.weight;
+  if (!(throughput > 0.0)) return;
+
+  // Russian roulette only once the path has reached the gate's support: before that the path
+  // has contributed nothing yet, and its length (not a bounce count) already bounds it.
+  if (depth >= frame.pathInfo.x && len >= frame.gateSupport.x) {
+    Rng rr = rngForBounce(pixel, sampleIndex, depth, kRngSlotLight, frame.image.w);
+    float survive = clamp(throughput, 0.05, 0.95);
+    if (rngNext4(rr).w >= survive) {
+      atomicAdd(counters[kCounterEndedByRoulette], 1u);
+      return;
+    }
+    throughput /= survive;
+  }
+
+  float ior = ps.misc.y;
+  if (bs.transmitted) ior = dot(sp.normal, bs.wo) < 0.0 ? v.material.ior : 1.0;
+  ps.position = vec4(sp.position, len);
+  ps.direction = vec4(bs.wo, comp);
+  ps.normal = vec4(sp.normal, throughput);
+  ps.misc = vec4(bs.pdf, ior, 0.0, 0.0);
+  ps.ids.z = depth;
+  paths[path] = ps;
+  uint slot = atomicAdd(counters[kCounterRays0 + (parity ^ 1u)], 1u);
+  rayQueues[(parity ^ 1u) * batch + slot] = path;
+}

@@ -1,0 +1,29 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Pass trace_shadow_rays: visibility of every queued connection (one or two segments); adds the
+// value of the unoccluded ones to their path's accumulator at the connection's path length.
+// Reads: shadow queue, scene BVH. Writes: pathAccum. Dispatch: indirect (shadow queue size).
+#include "lib/common.glsl"
+#include "lib/bindings.glsl"
+#include "lib/bvh.glsl"
+#include "lib/path.glsl"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(push_constant) uniform Push { PassPush push; };
+
+bool segmentVisible(vec3 a, vec3 b) {
+  vec3 d = b - a;
+  float dist = length(d);
+  float eps = frame.sceneInfo.x;
+  if (dist <= 2.0 * eps) return true;
+  return !traceAny(a, d / dist, eps, dist - eps);
+}
+
+void main() {
+  uint index = gl_GlobalInvocationID.x;
+  if (index >= counters[kCounterShadow]) return;
+  ShadowRay r = shadowRays[index];
+  if (!segmentVisible(r.p0Value.xyz, r.p1Length.xyz)) return;
+  if (r.info.y == 2u && !segmentVisible(r.p1Length.xyz, r.p2.xyz)) return;
+  addContribution(r.info.x, r.p0Value.w, r.p1Length.w);
+}

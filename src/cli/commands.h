@@ -1,0 +1,14 @@
+// The subcommands of the `vktg` executable.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "cli/args.h"
+
+namespace vktg::cli {
+
+int runRender(const std::vector<std::string>& args);
+int runInfo(const std::vector<std::string>& args);
+int runBench(const std::vector<std::string>& args);
+
+}  // namespace vktg::cli

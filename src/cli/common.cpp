@@ -1,0 +1,115 @@
+#include "cli/common.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+
+#include <unistd.h>
+
+#include "vktg/error.h"
+
+namespace vktg::cli {
+
+std::vector<OptionSpec> deviceOptions() {
+  return {{"--device", "D", "Vulkan device: index or name substring from `vktg info` (default: a GPU, else lavapipe)"},
+          {"--mem", "MIB", "memory budget for wavefront state and film in MiB (default 512)"},
+          {"--quiet", "", "no progress or summary on stderr"},
+          {"--help", "", "show this help"}};
+}
+
+std::vector<OptionSpec> sceneOverrideOptions() {
+  return {{"--gate", "SPEC", "gaussian:MU,SIGMA | box:A,B | tgauss:MU,SIGMA,A,B | steady | bins:START,WIDTH,COUNT (metres, or ns suffix)"},
+          {"--spp", "N", "samples per pixel"},
+          {"--seed", "N", "random seed (renders are reproducible from it)"},
+          {"--max-depth", "N", "maximum path vertices after the camera"},
+          {"--resolution", "WxH", "image size (perspective cameras)"},
+          {"--nee", "MODE", "auto | standard | ellipsoidal (default: the planner's choice)"}};
+}
+
+std::unique_ptr<VulkanContext> makeContext(const ParsedArgs& args) {
+  ContextOptions options;
+  options.device = args.get("--device").value_or("");
+  const char* validation = std::getenv("VKTG_VALIDATION");
+  options.validation = validation && std::string(validation) == "1";
+  return std::make_unique<VulkanContext>(options);
+}
+
+int finishWithValidationCheck(VulkanContext& context, int status) {
+  auto messages = context.takeValidationMessages();
+  for (const auto& m : messages) std::cerr << "vktg: validation: " << m << "\n";
+  return messages.empty() ? status : 3;
+}
+
+NeeMode parseNeeMode(const std::string& text) {
+  if (text == "auto") return NeeMode::Auto;
+  if (text == "standard") return NeeMode::Standard;
+  if (text == "ellipsoidal") return NeeMode::Ellipsoidal;
+  if (text == "mis") return NeeMode::Mis;
+  throw UsageError("--nee: '" + text + "' is not one of auto, standard, ellipsoidal");
+}
+
+uint64_t memoryBudget(const ParsedArgs& args) {
+  auto mib = args.count("--mem", 16, 1u << 20);
+  return uint64_t(mib.value_or(512)) << 20;
+}
+
+Scene loadSceneWithOverrides(const ParsedArgs& args, bool allowDefault) {
+  Scene scene;
+  if (args.positionals.empty()) {
+    if (!allowDefault) throw UsageError("a scene file is required");
+    scene = defaultScene();
+  } else {
+    scene = loadScene(args.positionals[0]);
+  }
+  if (auto gate = args.get("--gate")) scene.gate = parseGateSpec(*gate, "--gate");
+  if (auto spp = args.count("--spp", 1, 1u << 24)) scene.render.spp = *spp;
+  if (auto seed = args.count("--seed", 0, 0xffffffffu)) scene.render.seed = *seed;
+  if (auto depth = args.count("--max-depth", 1, 1024)) scene.render.maxDepth = *depth;
+  if (auto res = args.get("--resolution")) {
+    unsigned w = 0, h = 0;
+    char extra = 0;
+    if (std::sscanf(res->c_str(), "%ux%u%c", &w, &h, &extra) != 2 || w == 0 || h == 0 || w > 16384 || h > 16384)
+      throw UsageError("--resolution: '" + *res + "' must be WxH with 1 <= W, H <= 16384");
+    if (scene.camera.type == CameraType::PointSensor)
+      throw UsageError("--resolution: the scene's camera is a point sensor (one pixel)");
+    scene.camera.width = w;
+    scene.camera.height = h;
+  }
+  return scene;
+}
+
+std::function<void(double)> makeProgress(const std::string& label, bool quiet) {
+  if (quiet) return {};
+  bool tty = isatty(STDERR_FILENO);
+  auto lastQuarter = std::make_shared<int>(-1);
+  return [label, tty, lastQuarter](double fraction) {
+    if (tty) {
+      int filled = int(fraction * 30);
+      std::fprintf(stderr, "\r%s [%-30s] %3d%%", label.c_str(), std::string(size_t(filled), '#').c_str(),
+                   int(fraction * 100));
+      if (fraction >= 1.0) std::fprintf(stderr, "\n");
+      std::fflush(stderr);
+    } else if (int quarter = int(fraction * 4); quarter > *lastQuarter) {
+      *lastQuarter = quarter;
+      std::fprintf(stderr, "%s: %d%%\n", label.c_str(), quarter * 25);
+    }
+  };
+}
+
+std::filesystem::path withExtension(const std::filesystem::path& path, const std::string& extension) {
+  std::filesystem::path out = path;
+  out.replace_extension(extension);
+  return out;
+}
+
+std::filesystem::path outputPath(const ParsedArgs& args, const std::string& stem) {
+  if (auto out = args.get("--out")) {
+    std::filesystem::path p(*out);
+    if (p.extension() != ".exr") throw UsageError("--out: '" + *out + "' must end in .exr");
+    return p;
+  }
+  std::filesystem::create_directories("out");
+  return std::filesystem::path("out") / (stem + ".exr");
+}
+
+}  // namespace vktg::cli

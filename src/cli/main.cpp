@@ -1,0 +1,65 @@
+// vktg: a differentiable time-gated renderer. Dispatches to the subcommands and turns every
+// error into one `vktg: error: ...` line and a non-zero exit status.
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "cli/commands.h"
+#include "host/vk_check.h"
+#include "vktg/error.h"
+
+namespace {
+
+struct Subcommand {
+  const char* name;
+  int (*run)(const std::vector<std::string>&);
+  const char* summary;
+};
+
+const Subcommand kSubcommands[] = {
+    {"render", vktg::cli::runRender, "render a time-gated image or transient stack"},
+    {"info", vktg::cli::runInfo, "Vulkan devices, features and limits"},
+};
+
+void printUsage(std::FILE* out) {
+  std::fprintf(out, "usage: vktg COMMAND [options]   (vktg COMMAND --help for details)\n\ncommands:\n");
+  for (const auto& c : kSubcommands) std::fprintf(out, "  %-8s %s\n", c.name, c.summary);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    printUsage(stderr);
+    return 2;
+  }
+  std::string command = argv[1];
+  if (command == "--help" || command == "-h" || command == "help") {
+    printUsage(stdout);
+    return 0;
+  }
+  std::vector<std::string> args(argv + 2, argv + argc);
+  for (const auto& c : kSubcommands) {
+    if (command != c.name) continue;
+    try {
+      return c.run(args);
+    } catch (const vktg::cli::UsageError& e) {
+      std::fprintf(stderr, "vktg: error: %s\n(see `vktg %s --help`)\n", e.what(), c.name);
+      return 2;
+    } catch (const vktg::Error& e) {
+      std::fprintf(stderr, "vktg: error: %s\n", e.what());
+      return 1;
+    } catch (const vktg::VulkanError& e) {
+      std::fprintf(stderr, "vktg: error: %s\n", e.what());
+      return 1;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "vktg: error: %s\n", e.what());
+      return 1;
+    }
+  }
+  std::fprintf(stderr, "vktg: error: unknown command '%s'\n", command.c_str());
+  printUsage(stderr);
+  return 2;
+}

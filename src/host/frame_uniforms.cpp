@@ -1,0 +1,42 @@
+#include "host/frame_uniforms.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vktg {
+
+float sceneDiagonal(const PreparedScene& prepared) {
+  return std::max(glm::length(prepared.boundsMax - prepared.boundsMin), 1e-6f);
+}
+
+gpu::FrameUniforms sceneFrameUniforms(const Scene& scene, const PreparedScene& prepared, const GpuScene& gpuScene) {
+  gpu::FrameUniforms f{};
+  const Camera& cam = scene.camera;
+  f.cameraPosition = glm::vec4(cam.position, 0.0f);
+  if (cam.type == CameraType::Perspective) {
+    glm::vec3 forward = glm::normalize(cam.lookAt - cam.position);
+    glm::vec3 right = glm::normalize(glm::cross(forward, cam.up));
+    glm::vec3 up = glm::cross(right, forward);
+    float tanHalf = std::tan(glm::radians(cam.fovY) * 0.5f);
+    float aspect = float(cam.width) / float(cam.height);
+    f.cameraForward = glm::vec4(forward, 0.0f);
+    f.cameraRight = glm::vec4(right * tanHalf * aspect, 0.0f);
+    f.cameraUp = glm::vec4(up * tanHalf, 0.0f);
+    f.image = glm::uvec4(cam.width, cam.height, scene.render.spp, scene.render.seed);
+  } else {
+    f.cameraForward = glm::vec4(glm::normalize(cam.normal), 0.0f);
+    f.image = glm::uvec4(1, 1, scene.render.spp, scene.render.seed);
+  }
+  f.sceneCounts = glm::uvec4(uint32_t(prepared.triangles.size()), uint32_t(prepared.lights.size()),
+                             uint32_t(prepared.shapes.size()), uint32_t(cam.type));
+  float diagonal = sceneDiagonal(prepared);
+  // Offsets must exceed float rounding at the scene's coordinates (ulp ~ 6e-8 of the magnitude).
+  float magnitude = std::max({glm::length(prepared.boundsMin), glm::length(prepared.boundsMax), diagonal});
+  f.sceneInfo = glm::vec4(2e-5f * magnitude, diagonal, prepared.totalLightPower, 0.0f);
+  f.chunkShift = glm::uvec4(gpuScene.triangles.shift, gpuScene.bvhNodes.shift, 31, 0);
+  f.pathInfo = glm::uvec4(scene.render.rouletteDepth, 0, 1, 0);
+  f.gateInfo = glm::uvec4(0, 1, 0, scene.render.maxDepth);
+  return f;
+}
+
+}  // namespace vktg

@@ -1,0 +1,19 @@
+// Compile-time checks that the host's view of the shared GPU structs matches std430 in GLSL.
+#include <cstddef>
+
+#include "vktg/gpu/shared.h"
+
+namespace vktg::gpu {
+static_assert(sizeof(GpuTriangle) == 48);
+static_assert(sizeof(GpuBvhNode) == 64);
+static_assert(sizeof(GpuShape) == 16);
+static_assert(sizeof(GpuMaterial) == 16);
+static_assert(sizeof(GpuLight) == 32 && offsetof(GpuLight, type) == 16);
+static_assert(sizeof(FrameUniforms) == 12 * 16 && offsetof(FrameUniforms, chunkShift) == 11 * 16);
+static_assert(sizeof(PathState) == 80 && offsetof(PathState, ids) == 64);
+static_assert(sizeof(HitRecord) == 16);
+static_assert(sizeof(ShadowRay) == 64 && offsetof(ShadowRay, info) == 48);
+}  // namespace vktg::gpu
+namespace vktg::gpu {
+static_assert(sizeof(PassPush) == 16);
+}  // namespace vktg::gpu

@@ -1,0 +1,72 @@
+#include "host/gpu_scene.h"
+
+#include <algorithm>
+#include <bit>
+
+#include "vktg/error.h"
+
+namespace vktg {
+namespace {
+
+template <class T>
+Buffer uploadArray(const VulkanContext& context, const std::vector<T>& data, const std::string& name) {
+  Buffer buffer(context, std::max<size_t>(data.size() * sizeof(T), 16), MemoryKind::Device, name);
+  buffer.upload(context, data.data(), data.size() * sizeof(T));
+  return buffer;
+}
+
+}  // namespace
+
+uint32_t chunkShiftFor(size_t elementSize, size_t count, uint64_t maxRange, const std::string& what) {
+  uint64_t elementsPerRange = std::max<uint64_t>(1, maxRange / elementSize);
+  uint32_t shift = 31;
+  while (shift > 0 && (uint64_t(1) << shift) > elementsPerRange) --shift;
+  uint64_t capacity = (uint64_t(1) << shift) * gpu::kMaxBufferChunks;
+  if (count > capacity)
+    throw Error(what + ": " + std::to_string(count) + " elements exceed what this device can bind (" +
+                std::to_string(capacity) + " in " + std::to_string(gpu::kMaxBufferChunks) + " buffers of at most " +
+                std::to_string(maxRange) + " bytes)");
+  return shift;
+}
+
+ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, size_t count, const std::string& name) {
+  ChunkedBuffer out;
+  out.shift = chunkShiftFor(elementSize, count, context.properties().limits.maxStorageBufferRange, name);
+  size_t perChunk = size_t(1) << out.shift;
+  size_t chunks = std::max<size_t>(1, (count + perChunk - 1) / perChunk);
+  for (size_t c = 0; c < chunks; ++c) {
+    size_t elements = std::min(perChunk, count - std::min(count, c * perChunk));
+    out.chunks.emplace_back(context, std::max<size_t>(elements * elementSize, 16), MemoryKind::Device,
+                            name + "[" + std::to_string(c) + "]");
+  }
+  return out;
+}
+
+ChunkedBuffer uploadChunked(const VulkanContext& context, const void* data, size_t elementSize, size_t count,
+                            const std::string& name) {
+  ChunkedBuffer out = allocateChunked(context, elementSize, count, name);
+  size_t perChunk = size_t(1) << out.shift;
+  for (size_t c = 0; c < out.chunks.size(); ++c) {
+    size_t first = c * perChunk;
+    size_t elements = std::min(perChunk, count - std::min(count, first));
+    out.chunks[c].upload(context, static_cast<const char*>(data) + first * elementSize, elements * elementSize);
+  }
+  return out;
+}
+
+GpuScene::GpuScene(const VulkanContext& context, const PreparedScene& prepared)
+    : triangles(uploadChunked(context, prepared.triangles.data(), sizeof(gpu::GpuTriangle), prepared.triangles.size(),
+                              "scene.triangles")),
+      bvhNodes(uploadChunked(context, prepared.bvh.nodes.data(), sizeof(gpu::GpuBvhNode), prepared.bvh.nodes.size(),
+                             "scene.bvhNodes")),
+      triangleVerts(uploadArray(context, prepared.triangleVerts, "scene.triangleVerts")),
+      vertices(uploadArray(context, prepared.vertices, "scene.vertices")),
+      shapes(uploadArray(context, prepared.shapes, "scene.shapes")),
+      materials(uploadArray(context, prepared.materials, "scene.materials")),
+      lights(uploadArray(context, prepared.lights, "scene.lights")) {
+  for (const ChunkedBuffer* chunked : {&triangles, &bvhNodes})
+    for (const Buffer& b : chunked->chunks) bytes += b.size();
+  for (const Buffer* b : {&triangleVerts, &vertices, &shapes, &materials, &lights}) bytes += b->size();
+}
+
+}  // namespace vktg

@@ -1,0 +1,38 @@
+// A PreparedScene uploaded to device buffers. Arrays that may exceed maxStorageBufferRange
+// (triangles, BVH nodes) are split into up to gpu::kMaxBufferChunks chunks.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/vk_resources.h"
+#include "vktg/prepared_scene.h"
+
+namespace vktg {
+
+// One logical array split into power-of-two-sized chunks (element i is in chunk i >> shift).
+struct ChunkedBuffer {
+  std::vector<Buffer> chunks;
+  uint32_t shift = 0;
+};
+
+// Chooses the largest power-of-two chunk that fits `maxRange` bytes; throws vktg::Error naming
+// `what` when even kMaxBufferChunks chunks cannot hold `count` elements.
+uint32_t chunkShiftFor(size_t elementSize, size_t count, uint64_t maxRange, const std::string& what);
+ChunkedBuffer uploadChunked(const VulkanContext& context, const void* data, size_t elementSize, size_t count,
+                            const std::string& name);
+ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, size_t count, const std::string& name);
+
+struct GpuScene {
+  GpuScene(const VulkanContext& context, const PreparedScene& prepared);
+
+  ChunkedBuffer triangles;
+  ChunkedBuffer bvhNodes;
+  Buffer triangleVerts;
+  Buffer vertices;
+  Buffer shapes;
+  Buffer materials;
+  Buffer lights;
+  size_t bytes = 0;  // device memory held
+};
+
+}  // namespace vktg

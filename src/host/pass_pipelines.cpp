@@ -1,0 +1,174 @@
+#include "host/pass_pipelines.h"
+
+#include <cstdlib>
+#include <unistd.h>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+#include "host/vk_check.h"
+#include "vktg/error.h"
+
+namespace vktg {
+namespace {
+
+std::vector<char> readFileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace
+
+PassPipelines::PassPipelines(const VulkanContext& context, const ShaderTable& shaders, std::filesystem::path cacheFile)
+    : m_context(context), m_shaders(shaders), m_cacheFile(std::move(cacheFile)) {
+  VkDevice device = context.device();
+  std::vector<VkDescriptorSetLayoutBinding> bindings;
+  for (uint32_t b = 0; b < gpu::kBindingCount; ++b) {
+    VkDescriptorSetLayoutBinding binding{};
+    binding.binding = b;
+    binding.descriptorType = b == gpu::kBindingFrame ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    binding.descriptorCount = 1;
+    binding.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    bindings.push_back(binding);
+  }
+  VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  setInfo.bindingCount = uint32_t(bindings.size());
+  setInfo.pBindings = bindings.data();
+  VkDescriptorSetLayout setLayout;
+  VKTG_VK_CHECK(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout));
+  m_setLayout = DescriptorSetLayout(device, setLayout);
+
+  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::PassPush)};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = 1;
+  layoutInfo.pSetLayouts = &setLayout;
+  layoutInfo.pushConstantRangeCount = 1;
+  layoutInfo.pPushConstantRanges = &push;
+  VkPipelineLayout layout;
+  VKTG_VK_CHECK(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout));
+  m_layout = PipelineLayout(device, layout);
+
+  // A stale or foreign cache is rejected by the driver itself (its header names vendor, device
+  // and cache UUID), so reading whatever is on disk is safe.
+  std::vector<char> initial = m_cacheFile.empty() ? std::vector<char>{} : readFileBytes(m_cacheFile);
+  VkPipelineCacheCreateInfo cacheInfo{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
+  cacheInfo.initialDataSize = initial.size();
+  cacheInfo.pInitialData = initial.empty() ? nullptr : initial.data();
+  VkPipelineCache cache;
+  if (vkCreatePipelineCache(device, &cacheInfo, nullptr, &cache) != VK_SUCCESS) {
+    cacheInfo.initialDataSize = 0;
+    cacheInfo.pInitialData = nullptr;
+    VKTG_VK_CHECK(vkCreatePipelineCache(device, &cacheInfo, nullptr, &cache));
+  }
+  m_cache = PipelineCache(device, cache);
+}
+
+PassPipelines::~PassPipelines() {
+  if (m_cacheFile.empty() || !m_cache) return;
+  size_t size = 0;
+  if (vkGetPipelineCacheData(m_context.device(), m_cache.get(), &size, nullptr) != VK_SUCCESS || size == 0) return;
+  std::vector<char> data(size);
+  if (vkGetPipelineCacheData(m_context.device(), m_cache.get(), &size, data.data()) != VK_SUCCESS) return;
+  // Best effort: a cache that cannot be written only costs compile time next run.
+  std::error_code ec;
+  std::filesystem::create_directories(m_cacheFile.parent_path(), ec);
+  std::filesystem::path tmp = m_cacheFile;
+  tmp += ".tmp" + std::to_string(::getpid());
+  std::ofstream out(tmp, std::ios::binary);
+  out.write(data.data(), std::streamsize(size));
+  out.close();
+  if (out) std::filesystem::rename(tmp, m_cacheFile, ec);
+  else std::filesystem::remove(tmp, ec);
+}
+
+VkPipeline PassPipelines::get(const std::string& shader, const SpecValues& spec) {
+  auto key = std::make_pair(shader, spec);
+  if (auto it = m_pipelines.find(key); it != m_pipelines.end()) return it->second.get();
+  VkDevice device = m_context.device();
+  auto moduleIt = m_modules.find(shader);
+  if (moduleIt == m_modules.end()) {
+    auto code = m_shaders.find(shader);
+    if (code == m_shaders.end()) throw Error("internal: no embedded shader named '" + shader + "'");
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = code->second.size() * sizeof(uint32_t);
+    info.pCode = code->second.data();
+    VkShaderModule module;
+    VKTG_VK_CHECK(vkCreateShaderModule(device, &info, nullptr, &module));
+    m_context.setObjectName(VK_OBJECT_TYPE_SHADER_MODULE, uint64_t(module), shader);
+    moduleIt = m_modules.emplace(shader, ShaderModule(device, module)).first;
+  }
+  std::array<VkSpecializationMapEntry, gpu::kSpecCount> entries{};
+  for (uint32_t i = 0; i < gpu::kSpecCount; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+  VkSpecializationInfo specInfo{gpu::kSpecCount, entries.data(), sizeof(spec), spec.data()};
+  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = moduleIt->second.get();
+  info.stage.pName = "main";
+  info.stage.pSpecializationInfo = &specInfo;
+  info.layout = m_layout.get();
+  VkPipeline pipeline;
+  VKTG_VK_CHECK(vkCreateComputePipelines(device, m_cache.get(), 1, &info, nullptr, &pipeline));
+  m_context.setObjectName(VK_OBJECT_TYPE_PIPELINE, uint64_t(pipeline), shader);
+  return m_pipelines.emplace(key, Pipeline(device, pipeline)).first->second.get();
+}
+
+void BindingTable::setChunks(uint32_t firstBinding, const ChunkedBuffer& chunked) {
+  for (size_t c = 0; c < chunked.chunks.size() && c < gpu::kMaxBufferChunks; ++c)
+    buffers[firstBinding + c] = chunked.chunks[c].handle();
+}
+
+void BindingTable::setScene(const GpuScene& scene) {
+  setChunks(gpu::kBindingTriangles, scene.triangles);
+  setChunks(gpu::kBindingBvhNodes, scene.bvhNodes);
+  set(gpu::kBindingTriangleVerts, scene.triangleVerts);
+  set(gpu::kBindingVertices, scene.vertices);
+  set(gpu::kBindingShapes, scene.shapes);
+  set(gpu::kBindingMaterials, scene.materials);
+  set(gpu::kBindingLights, scene.lights);
+}
+
+DescriptorSet::DescriptorSet(const VulkanContext& context, VkDescriptorSetLayout layout, const BindingTable& table,
+                             const Buffer& dummy) {
+  VkDevice device = context.device();
+  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                                  {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu::kBindingCount}};
+  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  poolInfo.maxSets = 1;
+  poolInfo.poolSizeCount = 2;
+  poolInfo.pPoolSizes = sizes;
+  VkDescriptorPool pool;
+  VKTG_VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
+  m_pool = DescriptorPool(device, pool);
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &layout;
+  VKTG_VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &m_set));
+
+  std::array<VkDescriptorBufferInfo, gpu::kBindingCount> infos{};
+  std::array<VkWriteDescriptorSet, gpu::kBindingCount> writes{};
+  for (uint32_t b = 0; b < gpu::kBindingCount; ++b) {
+    infos[b] = {table.buffers[b] ? table.buffers[b] : dummy.handle(), 0, VK_WHOLE_SIZE};
+    writes[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    writes[b].dstSet = m_set;
+    writes[b].dstBinding = b;
+    writes[b].descriptorCount = 1;
+    writes[b].descriptorType = b == gpu::kBindingFrame ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[b].pBufferInfo = &infos[b];
+  }
+  vkUpdateDescriptorSets(device, gpu::kBindingCount, writes.data(), 0, nullptr);
+}
+
+std::filesystem::path defaultPipelineCacheFile(const VulkanContext& context) {
+  std::filesystem::path base;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) base = xdg;
+  else if (const char* home = std::getenv("HOME"); home && *home) base = std::filesystem::path(home) / ".cache";
+  else return {};
+  const auto& p = context.properties();
+  return base / "vktg" / ("pipelines-" + std::to_string(p.vendorID) + "-" + std::to_string(p.deviceID) + "-" +
+                          std::to_string(p.driverVersion) + ".bin");
+}
+
+}  // namespace vktg

@@ -1,0 +1,61 @@
+// The single descriptor-set layout and pipeline layout shared by every pass, compute pipelines
+// created on demand per (shader variant, specialisation constants), and descriptor sets.
+// Pipelines are cached on disk (VkPipelineCache) keyed by device, driver and vktg build.
+#pragma once
+#include <array>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "host/gpu_scene.h"
+#include "host/vk_resources.h"
+#include "vktg/shader_registry.h"
+
+namespace vktg {
+
+using SpecValues = std::array<uint32_t, gpu::kSpecCount>;
+
+class PassPipelines {
+ public:
+  PassPipelines(const VulkanContext& context, const ShaderTable& shaders, std::filesystem::path cacheFile = {});
+  ~PassPipelines();
+  PassPipelines(const PassPipelines&) = delete;
+  PassPipelines& operator=(const PassPipelines&) = delete;
+
+  VkPipeline get(const std::string& shader, const SpecValues& spec);
+  VkPipelineLayout layout() const { return m_layout.get(); }
+  VkDescriptorSetLayout setLayout() const { return m_setLayout.get(); }
+
+ private:
+  const VulkanContext& m_context;
+  const ShaderTable& m_shaders;
+  std::filesystem::path m_cacheFile;
+  DescriptorSetLayout m_setLayout;
+  PipelineLayout m_layout;
+  PipelineCache m_cache;
+  std::map<std::string, ShaderModule> m_modules;
+  std::map<std::pair<std::string, SpecValues>, Pipeline> m_pipelines;
+};
+
+// What each binding of set 0 points at; unset bindings get a small dummy buffer.
+struct BindingTable {
+  std::array<VkBuffer, gpu::kBindingCount> buffers{};
+  void set(uint32_t binding, const Buffer& buffer) { buffers[binding] = buffer.handle(); }
+  void setChunks(uint32_t firstBinding, const ChunkedBuffer& chunked);
+  void setScene(const GpuScene& scene);
+};
+
+class DescriptorSet {
+ public:
+  DescriptorSet(const VulkanContext& context, VkDescriptorSetLayout layout, const BindingTable& table, const Buffer& dummy);
+  VkDescriptorSet get() const { return m_set; }
+
+ private:
+  DescriptorPool m_pool;
+  VkDescriptorSet m_set = VK_NULL_HANDLE;
+};
+
+// Default on-disk location of the pipeline cache ($XDG_CACHE_HOME/vktg or ~/.cache/vktg).
+std::filesystem::path defaultPipelineCacheFile(const VulkanContext& context);
+
+}  // namespace vktg

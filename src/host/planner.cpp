@@ -1,0 +1,83 @@
+#include "host/planner.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "vktg/error.h"
+
+namespace vktg {
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0, double c = 0) {
+  char text[256];
+  std::snprintf(text, sizeof text, fmt, a, b, c);
+  return text;
+}
+
+}  // namespace
+
+const char* neeModeName(NeeMode mode) {
+  switch (mode) {
+    case NeeMode::Auto: return "auto";
+    case NeeMode::Standard: return "standard";
+    case NeeMode::Ellipsoidal: return "ellipsoidal";
+    case NeeMode::Mis: return "mis";
+  }
+  return "?";
+}
+
+RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode requested) {
+  RenderPlan plan;
+  const Gate& gate = scene.gate;
+  plan.layers = gate.layers();
+  plan.gateWidth = gate.width();
+  plan.pathSpread = std::max(double(glm::length(prepared.boundsMax - prepared.boundsMin)), 1e-9);
+  plan.firstEllipsoidVertex = scene.camera.type == CameraType::PointSensor ? 0 : 1;
+  NeeMode mode = requested != NeeMode::Auto ? requested : scene.render.nee;
+  if (mode == NeeMode::Mis)
+    throw Error("--nee: 'mis' (combining standard and ellipsoidal NEE) is not implemented yet; use standard or ellipsoidal");
+  if (mode == NeeMode::Ellipsoidal && gate.type == GateType::Steady)
+    throw Error("--nee: ellipsoidal NEE needs a gate of finite extent (it samples path lengths from the gate); the gate is steady");
+
+  if (mode == NeeMode::Auto) {
+    if (gate.type == GateType::Steady) {
+      mode = NeeMode::Standard;
+      plan.reasons.push_back("standard NEE: the gate is steady, every path length counts");
+    } else {
+      double ratio = plan.gateWidth / plan.pathSpread;
+      mode = ratio < kEllipsoidalGateFraction ? NeeMode::Ellipsoidal : NeeMode::Standard;
+      plan.reasons.push_back(format(mode == NeeMode::Ellipsoidal
+                                        ? "ellipsoidal NEE: gate width %.4g m is %.2g of the scene's path-length spread %.4g m (< 0.05); standard NEE would miss the gate with most samples"
+                                        : "standard NEE: gate width %.4g m is %.2g of the scene's path-length spread %.4g m (>= 0.05); enough standard samples land in the gate",
+                                    plan.gateWidth, ratio, plan.pathSpread));
+    }
+  } else {
+    plan.reasons.push_back(std::string(neeModeName(mode)) + " NEE: requested");
+  }
+  plan.nee = mode;
+  if (mode == NeeMode::Ellipsoidal)
+    plan.reasons.push_back(plan.firstEllipsoidVertex == 0
+                               ? "point sensor: ellipsoidal connections start at the sensor; direct light uses standard NEE"
+                               : "pinhole camera: paths of 1-2 segments use standard NEE and emitter hits, longer ones ellipsoidal connections");
+  if (gate.type != GateType::Steady)
+    plan.reasons.push_back(format("paths end once their length passes %.4g m (the gate's support); Russian roulette only after %.4g m",
+                                  gate.supportMax(), gate.supportMin()));
+  else
+    plan.reasons.push_back(format("steady gate: paths end by Russian roulette from depth %.0f or at max depth %.0f",
+                                  scene.render.rouletteDepth, scene.render.maxDepth));
+  std::string materials;
+  const char* names[] = {"diffuse", "conductor", "dielectric"};
+  for (uint32_t t = 0; t < 3; ++t)
+    if (prepared.materialMask & (1u << t)) materials += std::string(materials.empty() ? "" : ", ") + names[t];
+  plan.reasons.push_back("material code compiled in: " + materials);
+  if (plan.layers > 1) plan.reasons.push_back(format("transient stack: %.0f bins share every path", plan.layers));
+  return plan;
+}
+
+std::string explainPlan(const RenderPlan& plan) {
+  std::string out;
+  for (const std::string& r : plan.reasons) out += "  - " + r + "\n";
+  return out;
+}
+
+}  // namespace vktg

@@ -1,0 +1,31 @@
+// The planner: which estimator and which shader specialisations a scene needs, and why
+// (`--explain` prints the reasons). Simulate only what the scene calls for.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "vktg/prepared_scene.h"
+#include "vktg/scene.h"
+
+namespace vktg {
+
+struct RenderPlan {
+  NeeMode nee = NeeMode::Standard;    // Standard or Ellipsoidal after planning
+  uint32_t firstEllipsoidVertex = 1;  // 0 at a point sensor, 1 behind a pinhole
+  uint32_t layers = 1;
+  double gateWidth = 0;               // metres
+  double pathSpread = 0;              // metres: the scene diagonal, the spread of path lengths
+  std::vector<std::string> reasons;
+};
+
+// A gate narrower than this fraction of the scene's path-length spread gets ellipsoidal NEE: a
+// standard path tracer would land almost every sample outside such a gate.
+inline constexpr double kEllipsoidalGateFraction = 0.05;
+
+// `requested` overrides the scene's setting unless Auto. Throws vktg::Error for impossible
+// requests (ellipsoidal NEE with a steady gate).
+RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode requested);
+std::string explainPlan(const RenderPlan& plan);
+const char* neeModeName(NeeMode mode);
+
+}  // namespace vktg

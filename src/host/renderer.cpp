@@ -1,0 +1,242 @@
+#include "host/renderer.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "host/frame_uniforms.h"
+#include "host/pass_pipelines.h"
+#include "host/pass_profiler.h"
+#include "host/wavefront.h"
+#include "vktg/error.h"
+
+namespace vktg {
+namespace {
+
+constexpr double kSqrtTwoPi = 2.50662827463100050242;
+
+void setGateUniforms(gpu::FrameUniforms& f, const Gate& gate, bool gateCutoff) {
+  switch (gate.type) {
+    case GateType::Bins: f.gate = glm::vec4(float(gate.binStart), float(gate.binWidth), 0, 0); break;
+    default: f.gate = glm::vec4(float(gate.mu), float(gate.sigma), float(gate.a), float(gate.b)); break;
+  }
+  float supportMax = gateCutoff ? float(gate.supportMax()) : std::numeric_limits<float>::infinity();
+  float normaliser = (gate.type == GateType::Gaussian && gate.normalize) ? float(1.0 / (gate.sigma * kSqrtTwoPi)) : 1.0f;
+  double integral = gate.integral();
+  f.gateSupport = glm::vec4(float(gate.supportMin()), supportMax, std::isfinite(integral) ? float(integral) : 0.0f,
+                            normaliser);
+  f.gateInfo.x = uint32_t(gate.type);
+  f.gateInfo.y = gate.layers();
+}
+
+void pushArgs(VkCommandBuffer cmd, VkPipelineLayout layout, uint32_t x, uint32_t y, uint32_t z, uint32_t w) {
+  gpu::PassPush push{glm::uvec4(x, y, z, w)};
+  vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+}
+
+uint32_t groupsFor(uint64_t items) { return uint32_t((items + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize); }
+
+}  // namespace
+
+struct Renderer::Impl {
+  explicit Impl(VulkanContext& c)
+      : context(c), pipelines(c, kShaderRegistry, defaultPipelineCacheFile(c)),
+        dummy(c, 256, MemoryKind::Device, "dummy") {}
+  VulkanContext& context;
+  PassPipelines pipelines;
+  Buffer dummy;
+};
+
+Renderer::Renderer(VulkanContext& context) : m_impl(std::make_unique<Impl>(context)) {}
+Renderer::~Renderer() = default;
+
+RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) {
+  VulkanContext& context = m_impl->context;
+  PassPipelines& pipelines = m_impl->pipelines;
+  RenderResult result;
+  PreparedScene prepared = prepareScene(scene);
+  result.plan = planRender(scene, prepared, options.nee);
+  const RenderPlan& plan = result.plan;
+  GpuScene gpuScene(context, prepared);
+
+  const uint32_t layers = plan.layers;
+  const uint32_t width = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.width;
+  const uint32_t height = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.height;
+  const uint64_t pixels = uint64_t(width) * height;
+  const uint64_t totalPaths = pixels * scene.render.spp;
+  if (pixels * scene.render.spp > (uint64_t(1) << 32) * 8)
+    throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
+
+  const uint64_t filmElements = pixels * layers;
+  ChunkedBuffer film = allocateChunked(context, sizeof(float), filmElements, "film");
+  ChunkedBuffer filmSq = allocateChunked(context, sizeof(float), filmElements, "filmSq");
+  if (film.shift != filmSq.shift) throw Error("internal: film chunk layouts differ");
+  uint64_t filmBytes = 2 * filmElements * sizeof(float);
+  if (filmBytes + gpuScene.bytes >= options.memoryBudget)
+    throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the film (" +
+                std::to_string(filmBytes >> 20) + " MiB) and the scene (" + std::to_string(gpuScene.bytes >> 20) +
+                " MiB); raise it");
+  const uint32_t batchSize =
+      batchSizeFor(options.memoryBudget - filmBytes - gpuScene.bytes, layers, context.properties().limits.maxStorageBufferRange,
+                   totalPaths, context.properties().limits.maxComputeWorkGroupCount[0]);
+  WavefrontBuffers wave(context, batchSize, layers);
+
+  gpu::FrameUniforms frame = sceneFrameUniforms(scene, prepared, gpuScene);
+  setGateUniforms(frame, scene.gate, options.gateCutoff);
+  frame.gateInfo.z = plan.nee == NeeMode::Ellipsoidal ? gpu::kNeeEllipsoidal : gpu::kNeeStandard;
+  frame.pathInfo = glm::uvec4(scene.render.rouletteDepth, plan.firstEllipsoidVertex, 1, batchSize);
+  frame.chunkShift.z = film.shift;
+  Buffer frameBuffer(context, sizeof frame, MemoryKind::Device, "frame");
+  frameBuffer.upload(context, &frame, sizeof frame);
+
+  BindingTable table;
+  table.setScene(gpuScene);
+  table.set(gpu::kBindingFrame, frameBuffer);
+  table.set(gpu::kBindingPaths, wave.paths);
+  table.set(gpu::kBindingHits, wave.hits);
+  table.set(gpu::kBindingRayQueues, wave.rayQueues);
+  table.set(gpu::kBindingShadowQueue, wave.shadowQueue);
+  table.set(gpu::kBindingCounters, wave.counters);
+  table.set(gpu::kBindingDispatchArgs, wave.dispatchArgs);
+  table.set(gpu::kBindingPathAccum, wave.pathAccum);
+  table.setChunks(gpu::kBindingFilm, film);
+  table.setChunks(gpu::kBindingFilmSq, filmSq);
+  DescriptorSet set(context, pipelines.setLayout(), table, m_impl->dummy);
+
+  SpecValues spec{};
+  spec[gpu::kSpecMaterialMask] = prepared.materialMask;
+  spec[gpu::kSpecNeeMode] = frame.gateInfo.z;
+  spec[gpu::kSpecGateType] = uint32_t(scene.gate.type);
+  spec[gpu::kSpecCameraType] = uint32_t(scene.camera.type);
+  spec[gpu::kSpecLightMask] = prepared.lightMask;
+  VkPipeline generate = pipelines.get("generate_camera_rays", spec);
+  VkPipeline intersect = pipelines.get("intersect_closest", spec);
+  VkPipeline shade = pipelines.get("shade", spec);
+  VkPipeline shadow = pipelines.get("trace_shadow_rays", spec);
+  VkPipeline setArgs = pipelines.get("set_dispatch_args", spec);
+  VkPipeline accumulate = pipelines.get("accumulate", spec);
+  VkPipeline resolve = pipelines.get("resolve", spec);
+  VkPipelineLayout layout = pipelines.layout();
+  VkDescriptorSet ds = set.get();
+
+  const uint32_t maxDepth = scene.render.maxDepth;
+  PassProfiler profiler(context, 8 + 6 * maxDepth);
+  CommandBuffer cmdBuffer(context, "render batch");
+  VkCommandBuffer cmd = cmdBuffer.get();
+
+  auto dispatch = [&](const char* name, VkPipeline pipeline, uint32_t groups) {
+    profiler.begin(cmd, name);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    vkCmdDispatch(cmd, groups, 1, 1);
+    profiler.end(cmd);
+    computeBarrier(cmd);
+  };
+  auto dispatchIndirect = [&](const char* name, VkPipeline pipeline, uint32_t argsRecord) {
+    profiler.begin(cmd, name);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    vkCmdDispatchIndirect(cmd, wave.dispatchArgs.handle(), argsRecord * 3 * sizeof(uint32_t));
+    profiler.end(cmd);
+    computeBarrier(cmd);
+  };
+  auto zeroCounter = [&](uint32_t counter) {
+    vkCmdFillBuffer(cmd, wave.counters.handle(), counter * sizeof(uint32_t), sizeof(uint32_t), 0);
+    computeBarrier(cmd);
+  };
+
+  // Statistics counters accumulate over all batches: zero them once.
+  {
+    CommandBuffer init(context, "render init");
+    init.begin();
+    vkCmdFillBuffer(init.get(), wave.counters.handle(), 0, VK_WHOLE_SIZE, 0);
+    for (const ChunkedBuffer* f : {&film, &filmSq})
+      for (const Buffer& b : f->chunks) vkCmdFillBuffer(init.get(), b.handle(), 0, VK_WHOLE_SIZE, 0);
+    init.end();
+    context.submitAndWait(init.get());
+  }
+
+  auto start = std::chrono::steady_clock::now();
+  uint64_t done = 0;
+  while (done < totalPaths) {
+    uint32_t active = uint32_t(std::min<uint64_t>(batchSize, totalPaths - done));
+    uint32_t firstSample = uint32_t(done / pixels);
+    uint32_t firstLinear = uint32_t(done - uint64_t(firstSample) * pixels);
+    cmdBuffer.begin();
+    profiler.reset(cmd);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &ds, 0, nullptr);
+    vkCmdFillBuffer(cmd, wave.counters.handle(), 0, gpu::kCounterExtensionRays * sizeof(uint32_t), 0);
+    vkCmdFillBuffer(cmd, wave.pathAccum.handle(), 0, VK_WHOLE_SIZE, 0);
+    computeBarrier(cmd);
+    pushArgs(cmd, layout, firstLinear, firstSample, 0, active);
+    dispatch("generate_camera_rays", generate, groupsFor(active));
+    for (uint32_t depth = 0; depth < maxDepth; ++depth) {
+      uint32_t parity = depth & 1u;
+      pushArgs(cmd, layout, gpu::kCounterRays0 + parity, gpu::kArgsRays, gpu::kCounterExtensionRays, 0);
+      dispatch("set_dispatch_args", setArgs, 1);
+      pushArgs(cmd, layout, 0, 0, depth, 0);
+      dispatchIndirect("intersect_closest", intersect, gpu::kArgsRays);
+      zeroCounter(gpu::kCounterRays0 + (parity ^ 1u));
+      dispatchIndirect("shade", shade, gpu::kArgsRays);
+      pushArgs(cmd, layout, gpu::kCounterShadow, gpu::kArgsShadow, gpu::kCounterShadowRays, 0);
+      dispatch("set_dispatch_args", setArgs, 1);
+      dispatchIndirect("trace_shadow_rays", shadow, gpu::kArgsShadow);
+      zeroCounter(gpu::kCounterShadow);
+    }
+    pushArgs(cmd, layout, 0, 0, 0, active);
+    dispatch("accumulate", accumulate, groupsFor(uint64_t(active) * layers));
+    cmdBuffer.end();
+    context.submitAndWait(cmd);
+    profiler.collect();
+    done += active;
+    result.stats.batches++;
+    if (options.progress) options.progress(double(done) / double(totalPaths));
+  }
+  {
+    cmdBuffer.begin();
+    profiler.reset(cmd);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &ds, 0, nullptr);
+    pushArgs(cmd, layout, 0, 0, 0, uint32_t(filmElements));
+    dispatch("resolve", resolve, groupsFor(filmElements));
+    cmdBuffer.end();
+    context.submitAndWait(cmd);
+    profiler.collect();
+  }
+  result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  std::vector<uint32_t> counters(gpu::kCounterCount);
+  wave.counters.download(context, counters.data(), counters.size() * sizeof(uint32_t));
+  RenderStats& stats = result.stats;
+  stats.paths = totalPaths;
+  stats.extensionRays = counters[gpu::kCounterExtensionRays];
+  stats.shadowRays = counters[gpu::kCounterShadowRays];
+  stats.endedByGate = counters[gpu::kCounterEndedByGate];
+  stats.endedByRoulette = counters[gpu::kCounterEndedByRoulette];
+  stats.endedByDepth = counters[gpu::kCounterEndedByDepth];
+  stats.nonFinite = counters[gpu::kCounterNonFinite];
+  stats.ellipsoidQueries = counters[gpu::kCounterEllipsoidQueries];
+  stats.ellipsoidEmpty = counters[gpu::kCounterEllipsoidEmpty];
+  stats.batchSize = batchSize;
+  stats.deviceBytes = gpuScene.bytes + wave.bytes() + filmBytes;
+  result.passMilliseconds = profiler.millisecondsPerPass();
+
+  std::vector<float> mean(filmElements), variance(filmElements);
+  size_t perChunk = size_t(1) << film.shift;
+  for (size_t c = 0; c < film.chunks.size(); ++c) {
+    size_t first = c * perChunk;
+    size_t count = std::min<size_t>(perChunk, filmElements - first);
+    film.chunks[c].download(context, mean.data() + first, count * sizeof(float));
+    filmSq.chunks[c].download(context, variance.data() + first, count * sizeof(float));
+  }
+  for (ImageSet* set : {&result.mean, &result.variance}) {
+    set->width = width;
+    set->height = height;
+  }
+  for (uint32_t k = 0; k < layers; ++k) {
+    std::string name = scene.gate.layerName(k);
+    result.mean.layers.push_back({name, std::vector<float>(mean.begin() + k * pixels, mean.begin() + (k + 1) * pixels)});
+    result.variance.layers.push_back(
+        {name, std::vector<float>(variance.begin() + k * pixels, variance.begin() + (k + 1) * pixels)});
+  }
+  return result;
+}
+
+}  // namespace vktg

@@ -1,0 +1,54 @@
+// The forward renderer: a wavefront path tracer over batches of paths sized from a memory budget.
+// One command buffer per batch runs every bounce (indirect dispatches from queue counters).
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "host/planner.h"
+#include "host/vk_context.h"
+#include "vktg/image_io.h"
+#include "vktg/scene.h"
+
+namespace vktg {
+
+struct RenderOptions {
+  NeeMode nee = NeeMode::Auto;              // overrides the scene's render.nee unless Auto
+  uint64_t memoryBudget = 512ull << 20;     // bytes for wavefront state + film (`--mem`)
+  bool gateCutoff = true;                   // end paths whose length passed the gate (bench compares)
+  std::function<void(double)> progress;     // fraction done, after every batch
+};
+
+struct RenderStats {
+  uint64_t paths = 0;
+  uint64_t extensionRays = 0, shadowRays = 0;
+  uint64_t endedByGate = 0, endedByRoulette = 0, endedByDepth = 0;
+  uint64_t nonFinite = 0;
+  uint64_t ellipsoidQueries = 0, ellipsoidEmpty = 0;
+  uint32_t batches = 0, batchSize = 0;
+  uint64_t deviceBytes = 0;  // scene + wavefront + film
+  double seconds = 0;        // wall time of the batches (excludes pipeline creation)
+};
+
+struct RenderResult {
+  ImageSet mean;      // one layer per gate layer
+  ImageSet variance;  // variance of each pixel's mean (its squared standard error)
+  RenderStats stats;
+  RenderPlan plan;
+  std::map<std::string, double> passMilliseconds;
+};
+
+class Renderer {
+ public:
+  explicit Renderer(VulkanContext& context);
+  ~Renderer();
+  RenderResult render(const Scene& scene, const RenderOptions& options);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace vktg

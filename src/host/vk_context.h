@@ -1,0 +1,98 @@
+// The Vulkan instance, chosen device, compute queue and the debug machinery (validation messages,
+// object names, labels). Headless: no surface or window-system extension is ever requested.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "vktg/gpu/shared.h"
+
+namespace vktg {
+
+struct ContextOptions {
+  std::string device;       // "" = best available; a number = index in `vktg info`; else a name substring
+  bool validation = false;  // Khronos validation layer; every message is recorded (and fails tests)
+};
+
+// What `vktg info` prints about one physical device.
+struct DeviceReport {
+  uint32_t index = 0;
+  std::string name;
+  std::string type;        // discrete, integrated, virtual, cpu, other
+  std::string driver;      // driver name and info
+  std::string apiVersion;
+  bool usable = false;
+  std::string missing;     // why not usable
+  uint64_t maxStorageBufferRange = 0;
+  uint32_t maxComputeWorkGroupCount = 0;
+  uint32_t maxComputeWorkGroupInvocations = 0;
+  uint32_t maxPushConstantsSize = 0;
+  uint32_t maxPerStageStorageBuffers = 0;
+  uint64_t deviceLocalBytes = 0;
+  float timestampPeriodNs = 0;
+  bool floatAtomicAdd = false;
+  bool subgroupArithmetic = false;
+};
+
+class VulkanContext {
+ public:
+  explicit VulkanContext(const ContextOptions& options);
+  ~VulkanContext();
+  VulkanContext(const VulkanContext&) = delete;
+  VulkanContext& operator=(const VulkanContext&) = delete;
+
+  VkInstance instance() const { return m_instance; }
+  VkPhysicalDevice physicalDevice() const { return m_physical; }
+  VkDevice device() const { return m_device; }
+  VkQueue queue() const { return m_queue; }
+  uint32_t queueFamily() const { return m_queueFamily; }
+  VkCommandPool commandPool() const { return m_commandPool; }
+  const VkPhysicalDeviceProperties& properties() const { return m_properties; }
+  const DeviceReport& report() const { return m_report; }
+  bool isCpuDevice() const { return m_properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+
+  uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;
+  bool hasMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;
+
+  void setObjectName(VkObjectType type, uint64_t handle, const std::string& name) const;
+  void beginLabel(VkCommandBuffer cmd, const char* name) const;
+  void endLabel(VkCommandBuffer cmd) const;
+
+  // Submits and blocks until the GPU is done.
+  void submitAndWait(VkCommandBuffer cmd) const;
+
+  // Validation messages recorded so far (warnings and errors); tests fail on any.
+  std::vector<std::string> takeValidationMessages();
+  uint64_t validationMessageCount() const { return m_messageCount.load(); }
+
+  static std::vector<DeviceReport> listDevices();
+
+ private:
+  void release();  // destroys whatever was created (also on a failed construction)
+  static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                       VkDebugUtilsMessageTypeFlagsEXT types,
+                                                       const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                       void* user);
+  VkInstance m_instance = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT m_messenger = VK_NULL_HANDLE;
+  VkPhysicalDevice m_physical = VK_NULL_HANDLE;
+  VkDevice m_device = VK_NULL_HANDLE;
+  VkQueue m_queue = VK_NULL_HANDLE;
+  uint32_t m_queueFamily = 0;
+  VkCommandPool m_commandPool = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties m_properties{};
+  VkPhysicalDeviceMemoryProperties m_memory{};
+  DeviceReport m_report;
+  PFN_vkSetDebugUtilsObjectNameEXT m_setName = nullptr;
+  PFN_vkCmdBeginDebugUtilsLabelEXT m_beginLabel = nullptr;
+  PFN_vkCmdEndDebugUtilsLabelEXT m_endLabel = nullptr;
+  std::mutex m_messageMutex;
+  std::vector<std::string> m_messages;
+  std::atomic<uint64_t> m_messageCount{0};
+};
+
+}  // namespace vktg

@@ -1,0 +1,143 @@
+#include "host/vk_resources.h"
+
+#include <cstring>
+
+#include "host/vk_check.h"
+
+namespace vktg {
+
+Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind, const std::string& name)
+    : m_device(context.device()), m_size(size), m_name(name) {
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size > 0 ? size : 16;
+  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VKTG_VK_CHECK(vkCreateBuffer(m_device, &info, nullptr, &m_buffer));
+  context.setObjectName(VK_OBJECT_TYPE_BUFFER, uint64_t(m_buffer), name);
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(m_device, m_buffer, &req);
+
+  constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  VkMemoryPropertyFlags flags = 0;
+  if (kind == MemoryKind::Device) {
+    flags = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    // Integrated GPUs and lavapipe expose device memory the host can map: skip staging there.
+    if (context.hasMemoryType(req.memoryTypeBits, flags | kHost)) flags |= kHost;
+  } else {
+    flags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+    if (!context.hasMemoryType(req.memoryTypeBits, flags)) flags = kHost;
+  }
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = context.findMemoryType(req.memoryTypeBits, flags);
+  VkResult result = vkAllocateMemory(m_device, &alloc, nullptr, &m_memory);
+  if (result != VK_SUCCESS) {
+    reset();
+    VKTG_VK_CHECK(result);
+  }
+  VKTG_VK_CHECK(vkBindBufferMemory(m_device, m_buffer, m_memory, 0));
+  if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
+    VKTG_VK_CHECK(vkMapMemory(m_device, m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
+    m_coherent = (flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) != 0 ||
+                 context.hasMemoryType(1u << alloc.memoryTypeIndex, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  }
+}
+
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+  if (this != &other) {
+    reset();
+    m_device = other.m_device;
+    m_buffer = std::exchange(other.m_buffer, VK_NULL_HANDLE);
+    m_memory = std::exchange(other.m_memory, VK_NULL_HANDLE);
+    m_size = std::exchange(other.m_size, 0);
+    m_mapped = std::exchange(other.m_mapped, nullptr);
+    m_coherent = other.m_coherent;
+    m_name = std::move(other.m_name);
+  }
+  return *this;
+}
+
+void Buffer::reset() {
+  if (m_buffer) vkDestroyBuffer(m_device, m_buffer, nullptr);
+  if (m_memory) vkFreeMemory(m_device, m_memory, nullptr);  // unmaps implicitly
+  m_buffer = VK_NULL_HANDLE;
+  m_memory = VK_NULL_HANDLE;
+  m_mapped = nullptr;
+}
+
+void Buffer::upload(const VulkanContext& context, const void* data, size_t bytes, size_t offset) {
+  if (bytes == 0) return;
+  if (m_mapped) {
+    std::memcpy(static_cast<char*>(m_mapped) + offset, data, bytes);
+    if (!m_coherent) {
+      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_memory, 0, VK_WHOLE_SIZE};
+      VKTG_VK_CHECK(vkFlushMappedMemoryRanges(m_device, 1, &range));
+    }
+    return;
+  }
+  Buffer staging(context, bytes, MemoryKind::Readback, m_name + ".staging");
+  staging.upload(context, data, bytes);
+  CommandBuffer cmd(context, "upload " + m_name);
+  cmd.begin();
+  VkBufferCopy region{0, offset, bytes};
+  vkCmdCopyBuffer(cmd.get(), staging.handle(), m_buffer, 1, &region);
+  cmd.end();
+  context.submitAndWait(cmd.get());
+}
+
+void Buffer::download(const VulkanContext& context, void* data, size_t bytes, size_t offset) const {
+  if (bytes == 0) return;
+  if (m_mapped) {
+    if (!m_coherent) {
+      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_memory, 0, VK_WHOLE_SIZE};
+      VKTG_VK_CHECK(vkInvalidateMappedMemoryRanges(m_device, 1, &range));
+    }
+    std::memcpy(data, static_cast<const char*>(m_mapped) + offset, bytes);
+    return;
+  }
+  Buffer staging(context, bytes, MemoryKind::Readback, m_name + ".readback");
+  CommandBuffer cmd(context, "download " + m_name);
+  cmd.begin();
+  VkBufferCopy region{offset, 0, bytes};
+  vkCmdCopyBuffer(cmd.get(), m_buffer, staging.handle(), 1, &region);
+  cmd.end();
+  context.submitAndWait(cmd.get());
+  staging.download(context, data, bytes);
+}
+
+CommandBuffer::CommandBuffer(const VulkanContext& context, const std::string& name)
+    : m_device(context.device()), m_pool(context.commandPool()) {
+  VkCommandBufferAllocateInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  info.commandPool = m_pool;
+  info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  info.commandBufferCount = 1;
+  VKTG_VK_CHECK(vkAllocateCommandBuffers(m_device, &info, &m_cmd));
+  context.setObjectName(VK_OBJECT_TYPE_COMMAND_BUFFER, uint64_t(m_cmd), name);
+}
+
+CommandBuffer::~CommandBuffer() {
+  if (m_cmd) vkFreeCommandBuffers(m_device, m_pool, 1, &m_cmd);
+}
+
+void CommandBuffer::begin() {
+  VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  VKTG_VK_CHECK(vkResetCommandBuffer(m_cmd, 0));
+  VKTG_VK_CHECK(vkBeginCommandBuffer(m_cmd, &info));
+}
+
+void CommandBuffer::end() { VKTG_VK_CHECK(vkEndCommandBuffer(m_cmd)); }
+
+void computeBarrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT |
+                          VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+                           VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace vktg

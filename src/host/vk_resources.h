@@ -1,0 +1,116 @@
+// Move-only RAII wrappers for the Vulkan objects vktg creates. Each carries a debug name (set on
+// the object for validation messages and captures). Destruction order follows declaration order.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <utility>
+
+#include <vulkan/vulkan.h>
+
+#include "host/vk_context.h"
+
+namespace vktg {
+
+// A device-owned handle destroyed with `Destroy(device, handle, nullptr)`.
+template <class Handle, auto Destroy>
+class DeviceHandle {
+ public:
+  DeviceHandle() = default;
+  DeviceHandle(VkDevice device, Handle handle) : m_device(device), m_handle(handle) {}
+  ~DeviceHandle() { reset(); }
+  DeviceHandle(DeviceHandle&& other) noexcept
+      : m_device(other.m_device), m_handle(std::exchange(other.m_handle, VK_NULL_HANDLE)) {}
+  DeviceHandle& operator=(DeviceHandle&& other) noexcept {
+    if (this != &other) {
+      reset();
+      m_device = other.m_device;
+      m_handle = std::exchange(other.m_handle, VK_NULL_HANDLE);
+    }
+    return *this;
+  }
+  DeviceHandle(const DeviceHandle&) = delete;
+  DeviceHandle& operator=(const DeviceHandle&) = delete;
+
+  Handle get() const { return m_handle; }
+  explicit operator bool() const { return m_handle != VK_NULL_HANDLE; }
+  void reset() {
+    if (m_handle != VK_NULL_HANDLE) Destroy(m_device, m_handle, nullptr);
+    m_handle = VK_NULL_HANDLE;
+  }
+
+ private:
+  VkDevice m_device = VK_NULL_HANDLE;
+  Handle m_handle = VK_NULL_HANDLE;
+};
+
+using ShaderModule = DeviceHandle<VkShaderModule, vkDestroyShaderModule>;
+using Pipeline = DeviceHandle<VkPipeline, vkDestroyPipeline>;
+using PipelineLayout = DeviceHandle<VkPipelineLayout, vkDestroyPipelineLayout>;
+using PipelineCache = DeviceHandle<VkPipelineCache, vkDestroyPipelineCache>;
+using DescriptorSetLayout = DeviceHandle<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
+using DescriptorPool = DeviceHandle<VkDescriptorPool, vkDestroyDescriptorPool>;
+using QueryPool = DeviceHandle<VkQueryPool, vkDestroyQueryPool>;
+
+enum class MemoryKind {
+  Device,    // device-local; mapped too when the device offers host-visible device memory
+  Readback,  // host-visible and cached, for copies back to the host
+};
+
+// A buffer with its own memory allocation. Usable as storage, uniform, indirect and copy source/target.
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind, const std::string& name);
+  ~Buffer() { reset(); }
+  Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+  Buffer& operator=(Buffer&& other) noexcept;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  VkBuffer handle() const { return m_buffer; }
+  VkDeviceSize size() const { return m_size; }
+  void* mapped() const { return m_mapped; }  // nullptr when not host-visible
+  const std::string& name() const { return m_name; }
+  explicit operator bool() const { return m_buffer != VK_NULL_HANDLE; }
+
+  // Copies host data into the buffer (directly when mapped, else through a staging buffer).
+  void upload(const VulkanContext& context, const void* data, size_t bytes, size_t offset = 0);
+  // Copies the buffer's first `bytes` back to the host.
+  void download(const VulkanContext& context, void* data, size_t bytes, size_t offset = 0) const;
+  void reset();
+
+ private:
+  VkDevice m_device = VK_NULL_HANDLE;
+  VkBuffer m_buffer = VK_NULL_HANDLE;
+  VkDeviceMemory m_memory = VK_NULL_HANDLE;
+  VkDeviceSize m_size = 0;
+  void* m_mapped = nullptr;
+  bool m_coherent = true;
+  std::string m_name;
+};
+
+// A primary command buffer from the context's pool, freed on destruction.
+class CommandBuffer {
+ public:
+  CommandBuffer(const VulkanContext& context, const std::string& name);
+  ~CommandBuffer();
+  CommandBuffer(CommandBuffer&& other) noexcept
+      : m_device(other.m_device), m_pool(other.m_pool), m_cmd(std::exchange(other.m_cmd, VK_NULL_HANDLE)) {}
+  CommandBuffer(const CommandBuffer&) = delete;
+  CommandBuffer& operator=(const CommandBuffer&) = delete;
+  CommandBuffer& operator=(CommandBuffer&&) = delete;
+
+  VkCommandBuffer get() const { return m_cmd; }
+  void begin();
+  void end();
+
+ private:
+  VkDevice m_device;
+  VkCommandPool m_pool;
+  VkCommandBuffer m_cmd = VK_NULL_HANDLE;
+};
+
+// Full compute-to-compute (and indirect-argument, transfer) barrier between passes.
+void computeBarrier(VkCommandBuffer cmd);
+
+}  // namespace vktg

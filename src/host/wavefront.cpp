@@ -1,0 +1,48 @@
+#include "host/wavefront.h"
+
+#include <algorithm>
+
+#include "vktg/error.h"
+#include "vktg/gpu/shared.h"
+
+namespace vktg {
+
+uint64_t wavefrontBytesPerPath(uint32_t layers) {
+  return sizeof(gpu::PathState) + sizeof(gpu::HitRecord) + 2 * sizeof(uint32_t) +
+         gpu::kShadowRaysPerPath * sizeof(gpu::ShadowRay) + uint64_t(layers) * sizeof(float);
+}
+
+uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint64_t maxBufferRange, uint64_t maxPaths,
+                      uint32_t maxGroups) {
+  uint64_t batch = budgetBytes / wavefrontBytesPerPath(layers);
+  // Every per-path buffer must be bindable as one storage buffer.
+  uint64_t largestPerPath = std::max<uint64_t>(gpu::kShadowRaysPerPath * sizeof(gpu::ShadowRay), uint64_t(layers) * 4);
+  batch = std::min(batch, maxBufferRange / largestPerPath);
+  batch = std::min<uint64_t>(batch, uint64_t(maxGroups) * gpu::kWorkgroupSize / std::max(layers, 1u));
+  batch = std::min<uint64_t>(batch, 1u << 22);
+  if (batch < gpu::kWorkgroupSize)
+    throw Error("--mem: the memory budget holds fewer than " + std::to_string(gpu::kWorkgroupSize) +
+                " paths of wavefront state (" + std::to_string(wavefrontBytesPerPath(layers)) + " bytes each); raise it");
+  uint64_t rounded = std::max<uint64_t>(gpu::kWorkgroupSize, (std::min(batch, std::max<uint64_t>(maxPaths, 1)) +
+                                                             gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize * gpu::kWorkgroupSize);
+  return uint32_t(std::min(rounded, batch / gpu::kWorkgroupSize * gpu::kWorkgroupSize));
+}
+
+WavefrontBuffers::WavefrontBuffers(const VulkanContext& context, uint32_t batchSize, uint32_t layers)
+    : paths(context, uint64_t(batchSize) * sizeof(gpu::PathState), MemoryKind::Device, "wavefront.paths"),
+      hits(context, uint64_t(batchSize) * sizeof(gpu::HitRecord), MemoryKind::Device, "wavefront.hits"),
+      rayQueues(context, 2ull * batchSize * sizeof(uint32_t), MemoryKind::Device, "wavefront.rayQueues"),
+      shadowQueue(context, uint64_t(gpu::kShadowRaysPerPath) * batchSize * sizeof(gpu::ShadowRay), MemoryKind::Device,
+                  "wavefront.shadowQueue"),
+      counters(context, gpu::kCounterCount * sizeof(uint32_t), MemoryKind::Device, "wavefront.counters"),
+      dispatchArgs(context, 3 * gpu::kArgsCount * sizeof(uint32_t), MemoryKind::Device, "wavefront.dispatchArgs"),
+      pathAccum(context, uint64_t(batchSize) * layers * sizeof(float), MemoryKind::Device, "wavefront.pathAccum") {}
+
+uint64_t WavefrontBuffers::bytes() const {
+  uint64_t total = 0;
+  for (const Buffer* b : {&paths, &hits, &rayQueues, &shadowQueue, &counters, &dispatchArgs, &pathAccum})
+    total += b->size();
+  return total;
+}
+
+}  // namespace vktg

@@ -1,0 +1,25 @@
+// Device buffers of one batch of paths (path state, hits, queues, shadow rays, counters, indirect
+// arguments, per-path accumulators) and the batch size a memory budget allows.
+#pragma once
+#include <cstdint>
+
+#include "host/vk_resources.h"
+
+namespace vktg {
+
+// Bytes of wavefront state per path for `layers` gate layers.
+uint64_t wavefrontBytesPerPath(uint32_t layers);
+
+// Largest batch within `budgetBytes` whose every buffer stays under `maxBufferRange`, clamped
+// to [kWorkgroupSize, maxPaths]. Throws vktg::Error when not even one workgroup fits.
+uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint64_t maxBufferRange, uint64_t maxPaths,
+                      uint32_t maxGroups);
+
+struct WavefrontBuffers {
+  WavefrontBuffers(const VulkanContext& context, uint32_t batchSize, uint32_t layers);
+  uint64_t bytes() const;
+
+  Buffer paths, hits, rayQueues, shadowQueue, counters, dispatchArgs, pathAccum;
+};
+
+}  // namespace vktg
