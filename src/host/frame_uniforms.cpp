@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vktg {
+namespace {
+constexpr double kSqrtTwoPi = 2.50662827463100050242;
+}  // namespace
+
 
 float sceneDiagonal(const PreparedScene& prepared) {
   return std::max(glm::length(prepared.boundsMax - prepared.boundsMin), 1e-6f);
@@ -37,6 +42,20 @@ gpu::FrameUniforms sceneFrameUniforms(const Scene& scene, const PreparedScene& p
   f.pathInfo = glm::uvec4(scene.render.rouletteDepth, 0, 1, 0);
   f.gateInfo = glm::uvec4(0, 1, 0, scene.render.maxDepth);
   return f;
+}
+
+void setGateUniforms(gpu::FrameUniforms& f, const Gate& gate, bool gateCutoff) {
+  switch (gate.type) {
+    case GateType::Bins: f.gate = glm::vec4(float(gate.binStart), float(gate.binWidth), 0, 0); break;
+    default: f.gate = glm::vec4(float(gate.mu), float(gate.sigma), float(gate.a), float(gate.b)); break;
+  }
+  float supportMax = gateCutoff ? float(gate.supportMax()) : std::numeric_limits<float>::infinity();
+  float normaliser = (gate.type == GateType::Gaussian && gate.normalize) ? float(1.0 / (gate.sigma * kSqrtTwoPi)) : 1.0f;
+  double integral = gate.integral();
+  f.gateSupport = glm::vec4(float(gate.supportMin()), supportMax, std::isfinite(integral) ? float(integral) : 0.0f,
+                            normaliser);
+  f.gateInfo.x = uint32_t(gate.type);
+  f.gateInfo.y = gate.layers();
 }
 
 }  // namespace vktg

@@ -10,6 +10,10 @@ namespace vktg {
 
 gpu::FrameUniforms sceneFrameUniforms(const Scene& scene, const PreparedScene& prepared, const GpuScene& gpuScene);
 
+// Gate numbers (gate, gateSupport, gateInfo.x/y). Without the cutoff, paths are not ended when
+// their length passes the gate (same image, more work: the benchmark measures the saving).
+void setGateUniforms(gpu::FrameUniforms& frame, const Gate& gate, bool gateCutoff);
+
 // Scene diagonal and the ray offset used to leave a surface (relative to the scene's scale).
 float sceneDiagonal(const PreparedScene& prepared);
 

@@ -13,22 +13,6 @@
 namespace vktg {
 namespace {
 
-constexpr double kSqrtTwoPi = 2.50662827463100050242;
-
-void setGateUniforms(gpu::FrameUniforms& f, const Gate& gate, bool gateCutoff) {
-  switch (gate.type) {
-    case GateType::Bins: f.gate = glm::vec4(float(gate.binStart), float(gate.binWidth), 0, 0); break;
-    default: f.gate = glm::vec4(float(gate.mu), float(gate.sigma), float(gate.a), float(gate.b)); break;
-  }
-  float supportMax = gateCutoff ? float(gate.supportMax()) : std::numeric_limits<float>::infinity();
-  float normaliser = (gate.type == GateType::Gaussian && gate.normalize) ? float(1.0 / (gate.sigma * kSqrtTwoPi)) : 1.0f;
-  double integral = gate.integral();
-  f.gateSupport = glm::vec4(float(gate.supportMin()), supportMax, std::isfinite(integral) ? float(integral) : 0.0f,
-                            normaliser);
-  f.gateInfo.x = uint32_t(gate.type);
-  f.gateInfo.y = gate.layers();
-}
-
 void pushArgs(VkCommandBuffer cmd, VkPipelineLayout layout, uint32_t x, uint32_t y, uint32_t z, uint32_t w) {
   gpu::PassPush push{glm::uvec4(x, y, z, w)};
   vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);

@@ -33,6 +33,7 @@ std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vecto
     gpuScene.emplace(context, *prepared);
     table.setScene(*gpuScene);
     frame = sceneFrameUniforms(*scene, *prepared, *gpuScene);
+    setGateUniforms(frame, scene->gate, true);
   }
   frameBuffer.upload(context, &frame, sizeof frame);
   table.set(gpu::kBindingFrame, frameBuffer);
@@ -41,6 +42,10 @@ std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vecto
   SpecValues spec{};
   spec[gpu::kSpecMaterialMask] = 7;
   spec[gpu::kSpecLightMask] = 3;
+  if (scene) {
+    spec[gpu::kSpecGateType] = uint32_t(scene->gate.type);
+    spec[gpu::kSpecCameraType] = uint32_t(scene->camera.type);
+  }
   VkPipeline pipeline = pipelines.get(kernel, spec);
   CommandBuffer cmd(context, "test " + kernel);
   cmd.begin();

@@ -1,0 +1,224 @@
+// OpenEXR reading and writing. Files are encoded to and decoded from memory so that writing can
+// go through writeFileAtomic and reading never leaves OpenEXR holding a half-read file; every
+// OpenEXR exception becomes a vktg::Error naming the file.
+//
+// Layout: one FLOAT channel per layer, named "<layer>.Y" ("Y" for a lone unnamed layer), ZIP
+// compression (lossless). EXR stores channels sorted by name, so the writer also records the
+// layer order in the string-vector attribute kLayerOrderAttribute; readExr returns layers in that
+// order when it matches the channels, otherwise in the file's (alphabetical) channel order.
+#include <OpenEXR/Iex.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringVectorAttribute.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <new>
+
+#include "io/io_internal.h"
+#include "vktg/error.h"
+
+namespace vktg {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kLayerOrderAttribute = "vktgLayerOrder";
+constexpr const char* kChannelSuffix = ".Y";
+constexpr char kExrMagic[4] = {0x76, 0x2f, 0x31, 0x01};
+// Refuse headers describing absurd images before allocating (a corrupt or hostile header must
+// produce an error, not an out-of-memory abort).
+constexpr int64_t kMaxDimension = 1 << 16;
+constexpr int64_t kMaxSamples = int64_t(1) << 30;
+
+class MemoryOStream : public Imf::OStream {
+ public:
+  explicit MemoryOStream(const std::string& name) : Imf::OStream(name.c_str()) {}
+  void write(const char c[], int n) override {
+    if (m_position + size_t(n) > m_bytes.size()) m_bytes.resize(m_position + size_t(n));
+    std::memcpy(m_bytes.data() + m_position, c, size_t(n));
+    m_position += size_t(n);
+  }
+  uint64_t tellp() override { return m_position; }
+  void seekp(uint64_t position) override { m_position = position; }
+  const std::string& bytes() const { return m_bytes; }
+
+ private:
+  std::string m_bytes;
+  size_t m_position = 0;
+};
+
+class MemoryIStream : public Imf::IStream {
+ public:
+  MemoryIStream(const std::string& name, const std::string& bytes) : Imf::IStream(name.c_str()), m_bytes(bytes) {}
+  bool read(char c[], int n) override {
+    if (m_position > m_bytes.size() || size_t(n) > m_bytes.size() - m_position) {
+      throw Iex::InputExc("unexpected end of file");
+    }
+    std::memcpy(c, m_bytes.data() + m_position, size_t(n));
+    m_position += size_t(n);
+    return m_position < m_bytes.size();
+  }
+  uint64_t tellg() override { return m_position; }
+  void seekg(uint64_t position) override { m_position = position; }
+
+ private:
+  const std::string& m_bytes;
+  uint64_t m_position = 0;
+};
+
+std::string channelName(const ImageSet& images, const ImageLayer& layer) {
+  if (images.layers.size() == 1 && layer.name.empty()) return "Y";
+  return layer.name + kChannelSuffix;
+}
+
+std::string layerName(const std::string& channel) {
+  if (channel == "Y") return "";
+  const size_t suffix = std::strlen(kChannelSuffix);
+  if (channel.size() > suffix && channel.compare(channel.size() - suffix, suffix, kChannelSuffix) == 0) {
+    return channel.substr(0, channel.size() - suffix);
+  }
+  return channel;  // a channel from another tool ("R", "depth") keeps its full name
+}
+
+const char* pixelTypeName(Imf::PixelType type) {
+  switch (type) {
+    case Imf::HALF: return "16-bit half float";
+    case Imf::UINT: return "32-bit unsigned integer";
+    default: return "unknown";
+  }
+}
+
+std::string readFileBytes(const fs::path& path) {
+  std::error_code error;
+  if (!fs::exists(path, error)) fail(path.string(), "", "cannot read: file does not exist");
+  if (fs::is_directory(path, error)) fail(path.string(), "", "cannot read: it is a directory");
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) fail(path.string(), "", "cannot read: " + io::describeErrno(errno));
+  std::string bytes((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
+  if (stream.bad()) fail(path.string(), "", "cannot read: I/O error");
+  return bytes;
+}
+
+// Layer order recorded by writeExr, if it names exactly the layers present; otherwise file order.
+void applyRecordedOrder(const Imf::Header& header, ImageSet& images) {
+  const auto* order = header.findTypedAttribute<Imf::StringVectorAttribute>(kLayerOrderAttribute);
+  if (!order || order->value().size() != images.layers.size()) return;
+  std::map<std::string, size_t> index;
+  for (size_t i = 0; i < images.layers.size(); ++i) index[images.layers[i].name] = i;
+  std::vector<ImageLayer> ordered;
+  for (const std::string& name : order->value()) {
+    auto found = index.find(name);
+    if (found == index.end() || found->second == SIZE_MAX) return;  // unknown or repeated name
+    ordered.push_back(std::move(images.layers[found->second]));
+    found->second = SIZE_MAX;
+  }
+  images.layers = std::move(ordered);
+}
+
+ImageSet decodeExr(const fs::path& path, const std::string& bytes) {
+  const std::string name = path.string();
+  MemoryIStream stream(name, bytes);
+  Imf::InputFile file(stream, 1);
+  const Imf::Header& header = file.header();
+  const Imath::Box2i window = header.dataWindow();
+  const int64_t width = int64_t(window.max.x) - window.min.x + 1;
+  const int64_t height = int64_t(window.max.y) - window.min.y + 1;
+  if (width <= 0 || height <= 0) fail(name, "dataWindow", "empty data window");
+  if (width > kMaxDimension || height > kMaxDimension) {
+    fail(name, "dataWindow", "image too large (" + std::to_string(width) + "x" + std::to_string(height) + ")");
+  }
+
+  ImageSet images;
+  images.width = uint32_t(width);
+  images.height = uint32_t(height);
+  const Imf::ChannelList& channels = header.channels();
+  for (auto it = channels.begin(); it != channels.end(); ++it) {
+    const std::string channel = it.name();
+    if (it.channel().type != Imf::FLOAT) {
+      fail(name, "channel '" + channel + "'", std::string("pixel type is ") + pixelTypeName(it.channel().type) +
+                                                  "; only 32-bit float channels are supported");
+    }
+    if (it.channel().xSampling != 1 || it.channel().ySampling != 1) {
+      fail(name, "channel '" + channel + "'", "subsampled channels are not supported");
+    }
+    images.layers.push_back({layerName(channel), {}});
+  }
+  if (images.layers.empty()) fail(name, "", "the file has no channels");
+  if (int64_t(images.layers.size()) * width * height > kMaxSamples) fail(name, "", "image too large");
+  if (!file.isComplete()) fail(name, "", "the file is truncated (pixel data missing)");
+
+  Imf::FrameBuffer frameBuffer;
+  size_t layerIndex = 0;
+  for (auto it = channels.begin(); it != channels.end(); ++it, ++layerIndex) {
+    std::vector<float>& pixels = images.layers[layerIndex].pixels;
+    pixels.assign(size_t(width * height), 0.0f);
+    frameBuffer.insert(it.name(), Imf::Slice::Make(Imf::FLOAT, pixels.data(), window, sizeof(float),
+                                                   sizeof(float) * size_t(width)));
+  }
+  file.setFrameBuffer(frameBuffer);
+  file.readPixels(window.min.y, window.max.y);
+  applyRecordedOrder(header, images);
+  return images;
+}
+
+}  // namespace
+
+void writeExr(const fs::path& path, const ImageSet& images) {
+  io::validateImageSet(path, images);
+  std::string bytes;
+  try {
+    Imf::Header header(int(images.width), int(images.height));
+    header.compression() = Imf::ZIP_COMPRESSION;
+    Imf::FrameBuffer frameBuffer;
+    std::vector<std::string> order;
+    for (const ImageLayer& layer : images.layers) {
+      const std::string channel = channelName(images, layer);
+      header.channels().insert(channel, Imf::Channel(Imf::FLOAT));
+      // OpenEXR's Slice takes a mutable pointer but only reads through it when writing.
+      char* base = reinterpret_cast<char*>(const_cast<float*>(layer.pixels.data()));
+      frameBuffer.insert(channel, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * images.width));
+      order.push_back(layer.name);
+    }
+    header.insert(kLayerOrderAttribute, Imf::StringVectorAttribute(order));
+    MemoryOStream stream(path.string());
+    {
+      // The line offset table is written when the OutputFile is destroyed, so it must go first.
+      Imf::OutputFile file(stream, header, 1);
+      file.setFrameBuffer(frameBuffer);
+      file.writePixels(int(images.height));
+    }
+    bytes = stream.bytes();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    fail(path.string(), "", std::string("cannot encode OpenEXR: ") + e.what());
+  }
+  writeFileAtomic(path, bytes);
+}
+
+ImageSet readExr(const fs::path& path) {
+  const std::string bytes = readFileBytes(path);
+  if (bytes.empty()) fail(path.string(), "", "not an OpenEXR file (the file is empty)");
+  if (bytes.size() < sizeof(kExrMagic) || std::memcmp(bytes.data(), kExrMagic, sizeof(kExrMagic)) != 0) {
+    fail(path.string(), "", "not an OpenEXR file (wrong magic number)");
+  }
+  try {
+    return decodeExr(path, bytes);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    fail(path.string(), "", "malformed OpenEXR file (out of memory while decoding)");
+  } catch (const std::exception& e) {
+    fail(path.string(), "", std::string("malformed OpenEXR file: ") + e.what());
+  }
+}
+
+}  // namespace vktg

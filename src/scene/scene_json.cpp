@@ -1,0 +1,387 @@
+// The JSON scene format (docs/scene-format.md): strict parsing into vktg::Scene, and loadScene,
+// which dispatches on the file extension.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "scene/primitives.h"
+#include "scene/scene_values.h"
+#include "vktg/error.h"
+#include "vktg/scene.h"
+
+namespace vktg {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr uint32_t kSceneVersion = 1;
+constexpr uint32_t kMaxResolution = 16384;
+constexpr uint32_t kMaxSphereSubdivisions = 8;  // 20 * 4^8 = 1.3M triangles
+constexpr uint32_t kMaxHeightfieldResolution = 4096;
+
+// Reads `type` of an object and checks it against the accepted names.
+std::string typeOf(const JsonValue& value, std::initializer_list<std::string_view> accepted) {
+  if (!value.json().is_object()) value.fail("wrong type: expected an object");
+  if (!value.json().contains("type")) vktg::fail(value.file, value.path + ".type", "missing required field");
+  const JsonValue type{&value.json()["type"], value.file, value.path + ".type"};
+  const std::string name = type.string();
+  std::string list;
+  for (std::string_view a : accepted) {
+    if (a == name) return name;
+    list += (list.empty() ? "" : ", ") + std::string(a);
+  }
+  type.fail("unknown type \"" + name + "\" (expected one of: " + list + ")");
+}
+
+// The JSON parser keeps the last of repeated keys silently; a repeated key is almost always a
+// mistake, so it is an error like any unknown field.
+Json parseJsonText(const std::string& text, const std::string& file) {
+  std::vector<std::set<std::string>> keysPerObject;
+  std::string duplicate;
+  auto callback = [&](int, Json::parse_event_t event, Json& parsed) {
+    if (event == Json::parse_event_t::object_start) keysPerObject.emplace_back();
+    if (event == Json::parse_event_t::object_end) keysPerObject.pop_back();
+    if (event == Json::parse_event_t::key && !keysPerObject.back().insert(parsed.get<std::string>()).second &&
+        duplicate.empty())
+      duplicate = parsed.get<std::string>();
+    return true;
+  };
+  Json json;
+  try {
+    json = Json::parse(text, callback);
+  } catch (const Json::parse_error& e) {
+    // nlohmann's message reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
+    std::string message = e.what();
+    const size_t at = message.find("parse error ");
+    if (at != std::string::npos) message = message.substr(at + 12);
+    fail(file, "", "malformed JSON (syntax error) " + message);
+  } catch (const Json::exception& e) {
+    // Other parser failures, e.g. "number overflow parsing '1e999'"; drop the "[json.exception...] " tag.
+    std::string message = e.what();
+    const size_t tag = message.find("] ");
+    fail(file, "", "malformed JSON: " + (tag == std::string::npos ? message : message.substr(tag + 2)));
+  }
+  if (!duplicate.empty()) fail(file, duplicate, "duplicate field (given more than once in one object)");
+  return json;
+}
+
+class SceneParser {
+ public:
+  SceneParser(std::string file, fs::path baseDir) : m_file(std::move(file)), m_baseDir(std::move(baseDir)) {}
+
+  Scene parse(const Json& json) {
+    m_scene.source = m_file;
+    const JsonObject root(JsonValue{&json, m_file, ""},
+                          {"version", "description", "camera", "gate", "materials", "shapes", "lights", "render"});
+    const JsonValue version = root.field("version");
+    const uint32_t v = version.uinteger(0, std::numeric_limits<uint32_t>::max());
+    if (v != kSceneVersion)
+      version.fail("unsupported version " + std::to_string(v) + " (this vktg reads version " +
+                   std::to_string(kSceneVersion) + ")");
+    if (root.has("description")) root.field("description").string();
+    parseCamera(root.field("camera"));
+    if (root.has("gate")) parseGate(root.field("gate"));
+    if (root.has("materials")) parseMaterials(root.field("materials"));
+    if (root.has("shapes")) {
+      const JsonValue shapes = root.field("shapes");
+      for (size_t i = 0; i < shapes.array().size(); ++i) parseShape(shapes.element(i));
+    }
+    if (root.has("lights")) {
+      const JsonValue lights = root.field("lights");
+      for (size_t i = 0; i < lights.array().size(); ++i) parseLight(lights.element(i));
+    }
+    if (root.has("render")) parseRender(root.field("render"));
+    if (!m_scene.hasEmitters())
+      fail(m_file, "shapes, lights",
+           "no emitter: the scene needs a shape with emission > 0 or a point light with intensity > 0");
+    return std::move(m_scene);
+  }
+
+ private:
+  void parseCamera(const JsonValue& value) {
+    Camera& camera = m_scene.camera;
+    if (typeOf(value, {"perspective", "point_sensor"}) == "perspective") {
+      const JsonObject o(value, {"type", "position", "look_at", "up", "fov_y", "resolution"});
+      camera.type = CameraType::Perspective;
+      camera.position = o.field("position").vec3();
+      camera.lookAt = o.field("look_at").vec3();
+      camera.up = o.vec3("up", glm::vec3(0, 1, 0));
+      camera.fovY = float(o.number("fov_y", 40.0));
+      if (!(camera.fovY > 0 && camera.fovY < 180))
+        o.field("fov_y").fail("out of range: " + formatNumber(camera.fovY) + " degrees is not in (0, 180)");
+      if (o.has("resolution")) {
+        const JsonValue res = o.field("resolution");
+        if (!res.json().is_array() || res.json().size() != 2)
+          res.fail("wrong type: expected [width, height] (2 integers)");
+        camera.width = res.element(0).uinteger(1, kMaxResolution);
+        camera.height = res.element(1).uinteger(1, kMaxResolution);
+      }
+      const glm::vec3 dir = camera.lookAt - camera.position;
+      if (glm::length(dir) <= 0) o.field("look_at").fail("degenerate camera: look_at equals position");
+      if (glm::length(camera.up) <= 0) o.field("up").fail("degenerate camera: up must not be zero");
+      if (glm::length(glm::cross(glm::normalize(dir), glm::normalize(camera.up))) < 1e-6f)
+        o.field("up").fail("degenerate camera: up is parallel to the view direction");
+      camera.up = glm::normalize(camera.up);
+    } else {
+      const JsonObject o(value, {"type", "position", "normal"});
+      camera.type = CameraType::PointSensor;
+      camera.position = o.field("position").vec3();
+      const glm::vec3 normal = o.field("normal").vec3();
+      if (glm::length(normal) <= 0) o.field("normal").fail("degenerate camera: normal must not be zero");
+      camera.normal = glm::normalize(normal);
+      camera.width = camera.height = 1;
+    }
+  }
+
+  void parseGate(const JsonValue& value) {
+    Gate& gate = m_scene.gate;
+    if (value.json().is_object() && value.json().contains("spec")) {
+      const JsonObject o(value, {"spec"});
+      try {
+        gate = parseGateSpec(o.field("spec").string(), o.pathOf("spec"));
+      } catch (const Error& e) {
+        fail(m_file, "", e.what());
+      }
+    } else {
+      const std::string type = typeOf(value, {"steady", "box", "gaussian", "truncated_gaussian", "bins"});
+      if (type == "steady") {
+        const JsonObject o(value, {"type"});
+        gate.type = GateType::Steady;
+      } else if (type == "box") {
+        const JsonObject o(value, {"type", "a", "b"});
+        gate.type = GateType::Box;
+        gate.a = o.field("a").length();
+        gate.b = o.field("b").length();
+      } else if (type == "gaussian") {
+        const JsonObject o(value, {"type", "mu", "sigma", "normalize"});
+        gate.type = GateType::Gaussian;
+        gate.mu = o.field("mu").length();
+        gate.sigma = o.field("sigma").length();
+        gate.normalize = o.boolean("normalize", false);
+      } else if (type == "truncated_gaussian") {
+        const JsonObject o(value, {"type", "mu", "sigma", "a", "b"});
+        gate.type = GateType::TruncatedGaussian;
+        gate.mu = o.field("mu").length();
+        gate.sigma = o.field("sigma").length();
+        gate.a = o.field("a").length();
+        gate.b = o.field("b").length();
+      } else {
+        const JsonObject o(value, {"type", "start", "width", "count"});
+        gate.type = GateType::Bins;
+        gate.binStart = o.field("start").length();
+        gate.binWidth = o.field("width").length();
+        gate.binCount = o.field("count").uinteger(1, 65536);
+      }
+    }
+    validateGate(gate, m_file, value.path);
+  }
+
+  void parseMaterials(const JsonValue& value) {
+    if (!value.json().is_object()) value.fail("wrong type: expected an object mapping names to materials");
+    for (const auto& item : value.json().items()) {
+      const JsonValue entry{&item.value(), m_file, value.path + "." + item.key()};
+      Material material;
+      material.name = item.key();
+      const std::string type = typeOf(entry, {"diffuse", "conductor", "dielectric"});
+      if (type == "diffuse") {
+        const JsonObject o(entry, {"type", "albedo"});
+        material.type = MaterialType::Diffuse;
+        material.albedo = readAlbedo(o);
+      } else if (type == "conductor") {
+        const JsonObject o(entry, {"type", "albedo", "roughness"});
+        material.type = MaterialType::Conductor;
+        material.albedo = readAlbedo(o);
+        material.roughness = readRoughness(o);
+      } else {
+        const JsonObject o(entry, {"type", "roughness", "ior"});
+        material.type = MaterialType::Dielectric;
+        material.albedo = 1.0f;  // a dielectric loses no energy; Fresnel splits reflection and refraction
+        material.roughness = readRoughness(o);
+        material.ior = float(o.number("ior", 1.5));
+        if (o.has("ior")) requireAbove(o.field("ior"), material.ior, 1.0);
+      }
+      m_materials[material.name] = uint32_t(m_scene.materials.size());
+      m_scene.materials.push_back(material);
+    }
+  }
+
+  static float readAlbedo(const JsonObject& o) {
+    const double albedo = o.number("albedo", 0.8);
+    if (o.has("albedo")) requireInRange(o.field("albedo"), albedo, 0.0, 1.0);
+    return float(albedo);
+  }
+
+  static float readRoughness(const JsonObject& o) {
+    const double roughness = o.number("roughness", 0.2);
+    if (o.has("roughness")) requireInRange(o.field("roughness"), roughness, 1e-3, 1.0);
+    return float(roughness);
+  }
+
+  uint32_t materialFor(const JsonObject& o) {
+    if (o.has("material")) {
+      const JsonValue field = o.field("material");
+      const std::string name = field.string();
+      auto it = m_materials.find(name);
+      if (it == m_materials.end()) field.fail("unknown material \"" + name + "\" (not defined in \"materials\")");
+      return it->second;
+    }
+    auto it = m_materials.find("default");
+    if (it != m_materials.end()) return it->second;
+    m_materials["default"] = uint32_t(m_scene.materials.size());
+    m_scene.materials.push_back(Material{"default", MaterialType::Diffuse, 0.8f});
+    return m_materials["default"];
+  }
+
+  glm::mat4 parseTransform(const JsonObject& shape) {
+    if (!shape.has("transform")) return glm::mat4(1.0f);
+    const JsonObject o(shape.field("transform"), {"translate", "rotate", "scale"});
+    glm::vec3 scale(1.0f);
+    if (o.has("scale")) {
+      const JsonValue s = o.field("scale");
+      scale = s.json().is_number() ? glm::vec3(float(s.number())) : s.vec3();
+      if (scale.x == 0 || scale.y == 0 || scale.z == 0) s.fail("zero scale: collapses the shape (zero area)");
+    }
+    return composeTransform(o.vec3("translate", glm::vec3(0)), o.vec3("rotate", glm::vec3(0)), scale);
+  }
+
+  void claimName(const JsonValue& where, const std::string& name) {
+    if (name.empty()) where.fail("empty name");
+    if (!m_names.insert(name).second)
+      where.fail("duplicate name \"" + name + "\" (shape and light names must be unique)");
+  }
+
+  void parseShape(const JsonValue& value) {
+    const std::string type = typeOf(value, {"rectangle", "cube", "sphere", "heightfield", "mesh"});
+    std::vector<std::string_view> allowed = {"name", "type", "material", "transform", "emission"};
+    if (type == "sphere") allowed.push_back("subdivisions");
+    if (type == "heightfield") allowed.insert(allowed.end(), {"resolution", "size", "heights"});
+    if (type == "mesh") allowed.push_back("file");
+    const JsonObject o(value, allowed);
+
+    const size_t index = m_scene.shapes.size();
+    const std::string name = o.string("name", type + "_" + std::to_string(index));
+    claimName(o.has("name") ? o.field("name") : value, name);
+    const uint32_t material = materialFor(o);
+    const float emission = float(o.number("emission", 0.0));
+    if (o.has("emission")) requireAtLeast(o.field("emission"), emission, 0.0);
+    const glm::mat4 transform = parseTransform(o);
+
+    if (type == "mesh") {
+      const JsonValue fileField = o.field("file");
+      const fs::path file = m_baseDir / fileField.string();
+      try {
+        appendGltfShapes(m_scene, file, material, transform, emission, name);
+      } catch (const Error& e) {
+        fileField.fail(e.what());
+      }
+      const Shape& shape = m_scene.shapes.back();
+      if (meshArea(shape.positions, shape.triangles) <= 0) value.fail("zero area: the mesh has no visible surface");
+      return;
+    }
+    TriangleMesh mesh;
+    if (type == "rectangle") mesh = makeRectangle();
+    if (type == "cube") mesh = makeCube();
+    if (type == "sphere") mesh = makeIcosphere(o.uinteger("subdivisions", 3, 0, kMaxSphereSubdivisions));
+    if (type == "heightfield") mesh = parseHeightfield(o);
+    transformMesh(mesh, transform);
+    if (!(meshArea(mesh.positions, mesh.triangles) > 0)) value.fail("zero area: the shape has no visible surface");
+    Shape shape;
+    shape.name = name;
+    shape.positions = std::move(mesh.positions);
+    shape.triangles = std::move(mesh.triangles);
+    shape.material = material;
+    shape.emission = emission;
+    m_scene.shapes.push_back(std::move(shape));
+  }
+
+  static TriangleMesh parseHeightfield(const JsonObject& o) {
+    const JsonValue res = o.field("resolution");
+    if (!res.json().is_array() || res.json().size() != 2) res.fail("wrong type: expected [nx, nz] (2 integers)");
+    const uint32_t nx = res.element(0).uinteger(2, kMaxHeightfieldResolution);
+    const uint32_t nz = res.element(1).uinteger(2, kMaxHeightfieldResolution);
+    const JsonValue size = o.field("size");
+    const std::vector<double> s = size.numbers(2);
+    requireAbove(size.element(0), s[0], 0.0);
+    requireAbove(size.element(1), s[1], 0.0);
+    const JsonValue heightsField = o.field("heights");
+    const Json& array = heightsField.array();
+    if (array.size() != size_t(nx) * nz)
+      heightsField.fail("count mismatch: expected " + std::to_string(size_t(nx) * nz) + " heights (nx * nz = " +
+                        std::to_string(nx) + " * " + std::to_string(nz) + "), got " + std::to_string(array.size()));
+    std::vector<float> heights(array.size());
+    for (size_t i = 0; i < array.size(); ++i) heights[i] = float(heightsField.element(i).number());
+    return makeHeightfield(nx, nz, float(s[0]), float(s[1]), heights);
+  }
+
+  void parseLight(const JsonValue& value) {
+    typeOf(value, {"point"});
+    const JsonObject o(value, {"type", "name", "position", "intensity"});
+    PointLight light;
+    light.name = o.string("name", "light_" + std::to_string(m_scene.pointLights.size()));
+    claimName(o.has("name") ? o.field("name") : value, light.name);
+    light.position = o.field("position").vec3();
+    light.intensity = float(o.number("intensity", 1.0));
+    if (o.has("intensity")) requireAtLeast(o.field("intensity"), light.intensity, 0.0);
+    m_scene.pointLights.push_back(light);
+  }
+
+  void parseRender(const JsonValue& value) {
+    const JsonObject o(value, {"spp", "max_depth", "roulette_depth", "seed", "nee"});
+    RenderSettings& r = m_scene.render;
+    r.spp = o.uinteger("spp", r.spp, 1, 1u << 30);
+    r.maxDepth = o.uinteger("max_depth", r.maxDepth, 1, 1024);
+    r.rouletteDepth = o.uinteger("roulette_depth", r.rouletteDepth, 1, 1024);
+    r.seed = o.uinteger("seed", r.seed, 0, std::numeric_limits<uint32_t>::max());
+    if (o.has("nee")) {
+      const JsonValue nee = o.field("nee");
+      const std::string mode = nee.string();
+      if (mode == "auto") r.nee = NeeMode::Auto;
+      else if (mode == "standard") r.nee = NeeMode::Standard;
+      else if (mode == "ellipsoidal") r.nee = NeeMode::Ellipsoidal;
+      else if (mode == "mis") r.nee = NeeMode::Mis;
+      else nee.fail("unknown value \"" + mode + "\" (expected one of: auto, standard, ellipsoidal, mis)");
+    }
+  }
+
+  std::string m_file;
+  fs::path m_baseDir;
+  Scene m_scene;
+  std::map<std::string, uint32_t> m_materials;
+  std::set<std::string> m_names;
+};
+
+std::string readTextFile(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) fail(path.string(), "", "file not found");
+  if (!fs::is_regular_file(path, ec)) fail(path.string(), "", "cannot read: not a regular file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path.string(), "", "cannot read file (permission denied or I/O error)");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) fail(path.string(), "", "cannot read file (I/O error)");
+  return text.str();
+}
+
+}  // namespace
+
+Scene parseSceneJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir) {
+  const Json json = parseJsonText(text, file);
+  return SceneParser(file, baseDir).parse(json);
+}
+
+Scene loadScene(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".gltf" || ext == ".glb") return loadGltfScene(path);
+  if (ext != ".json")
+    fail(path.string(), "", "unknown scene file extension \"" + ext + "\" (expected .json, .gltf or .glb)");
+  Scene scene = parseSceneJson(readTextFile(path), path.string(), path.parent_path());
+  scene.source = path;
+  return scene;
+}
+
+}  // namespace vktg
