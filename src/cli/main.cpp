@@ -20,6 +20,7 @@ struct Subcommand {
 
 const Subcommand kSubcommands[] = {
     {"render", vktg::cli::runRender, "render a time-gated image or transient stack"},
+    {"bench", vktg::cli::runBench, "accuracy versus time and throughput benchmarks"},
     {"info", vktg::cli::runInfo, "Vulkan devices, features and limits"},
 };
 

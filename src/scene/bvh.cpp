@@ -1,0 +1,438 @@
+// Binned-SAH BVH build in the GPU node layout and the CPU reference traversal.
+//
+// Why traversal equals brute force for every ray: Möller–Trumbore's t (and hit decision) can be
+// far off for grazing rays, so a box test alone could cull a box whose triangle MT "hits". The
+// triangle test therefore also requires t to lie inside the slab interval of the triangle's own
+// padded box (trianglePaddedBox), computed with exactly the slab arithmetic the traversal applies
+// to node boxes. Node boxes are unions of those padded boxes, and every step of the slab test
+// (subtract, multiply by the same inverse direction, select, min/max, widen) is monotone under
+// IEEE rounding, so a node's interval always contains the interval of every triangle below it:
+// a node holding an accepted hit is never culled. Ties in t are broken by the smaller triangle
+// index, which makes the closest hit independent of the visiting order.
+// The same arithmetic is in shaders/lib/intersect.glsl (marked `precise` there, no FMA).
+#include "vktg/bvh.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "vktg/error.h"
+
+namespace vktg {
+namespace {
+
+// Direction components smaller than this are replaced (keeping the sign) before inverting, so the
+// inverse is finite and non-zero and the slab test never evaluates 0 * inf.
+constexpr float kTinyDirection = 1e-30f;
+// Relative widening of slab intervals in t: covers the rounding of MT's t relative to the slab
+// t of the same point (errors proportional to the distance travelled).
+constexpr float kSlabWiden = 1.0f / 8192.0f;
+// Triangle boxes are padded by this fraction of their largest extent: covers MT errors
+// proportional to the triangle's size (hit point far from p0).
+constexpr float kPadRelative = 1.0f / 4096.0f;
+// Rays closer to a triangle's plane than this (|det| relative to the product of the infinity norms
+// of both edges and the direction, i.e. roughly the sine of the grazing angle) miss: below it the
+// determinant is rounding noise.
+constexpr float kDetRelative = 1e-6f;
+
+struct Box {
+  glm::vec3 lo{std::numeric_limits<float>::infinity()};
+  glm::vec3 hi{-std::numeric_limits<float>::infinity()};
+  void grow(const Box& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  double area() const {
+    glm::dvec3 e = glm::dvec3(hi) - glm::dvec3(lo);
+    if (e.x < 0 || e.y < 0 || e.z < 0) return 0.0;
+    return 2.0 * (e.x * e.y + e.y * e.z + e.z * e.x);
+  }
+};
+
+Box trianglePaddedBox(const BvhTriangle& tri) {
+  glm::vec3 lo = glm::min(glm::min(tri.p0, tri.p1), tri.p2);
+  glm::vec3 hi = glm::max(glm::max(tri.p0, tri.p1), tri.p2);
+  glm::vec3 ext = hi - lo;
+  float pad = kPadRelative * std::max(std::max(ext.x, ext.y), ext.z);
+  return {lo - pad, hi + pad};
+}
+
+struct PreparedRay {
+  glm::vec3 origin, dir, invDir;
+};
+
+PreparedRay prepareRay(glm::vec3 origin, glm::vec3 dir) {
+  glm::vec3 inv;
+  for (int i = 0; i < 3; ++i) {
+    float d = dir[i];
+    if (!(std::fabs(d) >= kTinyDirection)) d = std::signbit(d) ? -kTinyDirection : kTinyDirection;
+    inv[i] = 1.0f / d;
+  }
+  return {origin, dir, inv};
+}
+
+float widenDown(float t) { return t * (t >= 0.0f ? 1.0f - kSlabWiden : 1.0f + kSlabWiden); }
+float widenUp(float t) { return t * (t >= 0.0f ? 1.0f + kSlabWiden : 1.0f - kSlabWiden); }
+
+// Widened [near, far] of the ray against a box; near > far when the ray misses it (inverted boxes
+// included: the slab picks the face by the sign of the inverse, never by min/max of both).
+glm::vec2 slabInterval(glm::vec3 lo, glm::vec3 hi, const PreparedRay& ray) {
+  float tNear = -std::numeric_limits<float>::infinity();
+  float tFar = std::numeric_limits<float>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    bool positive = ray.invDir[i] >= 0.0f;
+    float nearFace = positive ? lo[i] : hi[i];
+    float farFace = positive ? hi[i] : lo[i];
+    tNear = std::max(tNear, (nearFace - ray.origin[i]) * ray.invDir[i]);
+    tFar = std::min(tFar, (farFace - ray.origin[i]) * ray.invDir[i]);
+  }
+  return {widenDown(tNear), widenUp(tFar)};
+}
+
+float maxAbs(glm::vec3 v) { return std::max(std::max(std::fabs(v.x), std::fabs(v.y)), std::fabs(v.z)); }
+
+std::optional<RayHit> intersectPrepared(const BvhTriangle& tri, const PreparedRay& ray, float tMin, float tMax) {
+  glm::vec3 e1 = tri.p1 - tri.p0;
+  glm::vec3 e2 = tri.p2 - tri.p0;
+  glm::vec3 pv = glm::cross(ray.dir, e2);
+  float det = glm::dot(e1, pv);
+  // Negated comparison so a NaN determinant misses too.
+  if (!(std::fabs(det) > kDetRelative * maxAbs(e1) * maxAbs(e2) * maxAbs(ray.dir))) return std::nullopt;
+  float invDet = 1.0f / det;
+  glm::vec3 s = ray.origin - tri.p0;
+  float u = glm::dot(s, pv) * invDet;
+  if (!(u >= 0.0f && u <= 1.0f)) return std::nullopt;
+  glm::vec3 q = glm::cross(s, e1);
+  float v = glm::dot(ray.dir, q) * invDet;
+  if (!(v >= 0.0f && u + v <= 1.0f)) return std::nullopt;
+  float t = glm::dot(e2, q) * invDet;
+  if (!(t > tMin && t < tMax)) return std::nullopt;
+  Box box = trianglePaddedBox(tri);
+  glm::vec2 slab = slabInterval(box.lo, box.hi, ray);
+  if (!(t >= slab.x && t <= slab.y)) return std::nullopt;
+  RayHit hit;
+  hit.t = t;
+  hit.u = u;
+  hit.v = v;
+  return hit;
+}
+
+bool closer(const RayHit& a, const RayHit& b) { return a.t < b.t || (a.t == b.t && a.triangle < b.triangle); }
+
+// ---- Build -------------------------------------------------------------------------------------
+
+struct BuildItem {
+  uint32_t node, begin, end, depth;
+};
+
+struct Split {
+  bool found = false;
+  int axis = 0;
+  uint32_t bin = 0;  // left side = bins [0, bin)
+  double cost = std::numeric_limits<double>::infinity();
+  Box left, right;
+};
+
+uint32_t ceilLog2(uint32_t n) { return n <= 1 ? 0u : static_cast<uint32_t>(std::bit_width(n - 1)); }
+
+class Builder {
+ public:
+  Builder(std::span<const BvhTriangle> triangles, const BvhBuildOptions& options)
+      : m_options(options), m_boxes(triangles.size()), m_centroids(triangles.size()), m_index(triangles.size()) {
+    for (size_t i = 0; i < triangles.size(); ++i) {
+      m_boxes[i] = trianglePaddedBox(triangles[i]);
+      m_centroids[i] = 0.5f * (m_boxes[i].lo + m_boxes[i].hi);
+      m_index[i] = static_cast<uint32_t>(i);
+    }
+  }
+
+  Bvh build() {
+    Bvh bvh;
+    uint32_t n = static_cast<uint32_t>(m_index.size());
+    m_nodes.reserve(n > 0 ? 2 * n : 1);
+    m_nodes.emplace_back();
+    if (n == 0) {
+      // An interior node whose children are empty boxes: every ray misses, the loop terminates.
+      Box empty;
+      setInterior(0, 0, empty, 0, empty);
+    } else {
+      std::vector<BuildItem> stack{{0, 0, n, 0}};
+      while (!stack.empty()) {
+        BuildItem item = stack.back();
+        stack.pop_back();
+        process(item, stack);
+      }
+    }
+    bvh.nodes = std::move(m_nodes);
+    bvh.order = std::move(m_index);
+    return bvh;
+  }
+
+ private:
+  void setLeaf(uint32_t node, uint32_t first, uint32_t count) {
+    gpu::GpuBvhNode& out = m_nodes[node];
+    out.leftMinLeftIndex = glm::vec4(0.0f);
+    out.leftMaxRightIndex = glm::vec4(0.0f);
+    out.rightMinCount = glm::vec4(0.0f, 0.0f, 0.0f, std::bit_cast<float>(count));
+    out.rightMaxFirst = glm::vec4(0.0f, 0.0f, 0.0f, std::bit_cast<float>(first));
+  }
+
+  void setInterior(uint32_t node, uint32_t left, const Box& leftBox, uint32_t right, const Box& rightBox) {
+    gpu::GpuBvhNode& out = m_nodes[node];
+    out.leftMinLeftIndex = glm::vec4(leftBox.lo, std::bit_cast<float>(left));
+    out.leftMaxRightIndex = glm::vec4(leftBox.hi, std::bit_cast<float>(right));
+    out.rightMinCount = glm::vec4(rightBox.lo, std::bit_cast<float>(0u));
+    out.rightMaxFirst = glm::vec4(rightBox.hi, std::bit_cast<float>(0u));
+  }
+
+  void process(const BuildItem& item, std::vector<BuildItem>& stack) {
+    uint32_t count = item.end - item.begin;
+    Box centroidBounds;
+    for (uint32_t i = item.begin; i < item.end; ++i) {
+      glm::vec3 c = m_centroids[m_index[i]];
+      centroidBounds.grow({c, c});
+    }
+    glm::vec3 extent = centroidBounds.hi - centroidBounds.lo;
+    bool coincident = extent.x <= 0.0f && extent.y <= 0.0f && extent.z <= 0.0f;
+    if (count == 1 || coincident) {
+      setLeaf(item.node, item.begin, count);
+      return;
+    }
+
+    Split split;
+    // Invariant depth + ceil(log2(count)) <= maxDepth: a SAH split removes at least one triangle
+    // per level, a median split halves the count, so once SAH would break the invariant median
+    // splits take over and no leaf ends up deeper than maxDepth.
+    bool sahAllowed = item.depth + ceilLog2(count) + 1 <= m_maxDepth;
+    if (sahAllowed) {
+      split = findSahSplit(item, centroidBounds);
+      if (count <= m_options.maxLeafSize && (!split.found || static_cast<double>(count) <= split.cost)) {
+        setLeaf(item.node, item.begin, count);
+        return;
+      }
+    } else if (count <= m_options.maxLeafSize) {
+      setLeaf(item.node, item.begin, count);
+      return;
+    }
+
+    uint32_t mid;
+    if (split.found) {
+      mid = partitionByBin(item, centroidBounds, split);
+    } else {
+      mid = partitionByMedian(item, centroidBounds, split);
+    }
+
+    uint32_t left = static_cast<uint32_t>(m_nodes.size());
+    m_nodes.emplace_back();
+    m_nodes.emplace_back();
+    setInterior(item.node, left, split.left, left + 1, split.right);
+    // Right pushed first so the left subtree is built (and laid out) first.
+    stack.push_back({left + 1, mid, item.end, item.depth + 1});
+    stack.push_back({left, item.begin, mid, item.depth + 1});
+  }
+
+  uint32_t binOf(glm::vec3 c, int axis, const Box& bounds, double scale) const {
+    double x = (static_cast<double>(c[axis]) - static_cast<double>(bounds.lo[axis])) * scale;
+    return std::min(m_bins - 1, static_cast<uint32_t>(x));
+  }
+
+  double binScale(const Box& bounds, int axis) const {
+    return static_cast<double>(m_bins) /
+           (static_cast<double>(bounds.hi[axis]) - static_cast<double>(bounds.lo[axis]));
+  }
+
+  Split findSahSplit(const BuildItem& item, const Box& centroidBounds) {
+    struct Bin {
+      Box box;
+      uint32_t count = 0;
+    };
+    std::array<std::vector<Bin>, 3> bins;
+    std::array<double, 3> scales{};
+    std::array<bool, 3> active{};
+    for (int axis = 0; axis < 3; ++axis) {
+      active[axis] = centroidBounds.hi[axis] > centroidBounds.lo[axis];
+      if (!active[axis]) continue;
+      bins[axis].assign(m_bins, Bin{});
+      scales[axis] = binScale(centroidBounds, axis);
+    }
+    for (uint32_t i = item.begin; i < item.end; ++i) {
+      uint32_t tri = m_index[i];
+      for (int axis = 0; axis < 3; ++axis) {
+        if (!active[axis]) continue;
+        Bin& bin = bins[axis][binOf(m_centroids[tri], axis, centroidBounds, scales[axis])];
+        bin.box.grow(m_boxes[tri]);
+        ++bin.count;
+      }
+    }
+
+    Box parent;
+    for (uint32_t i = item.begin; i < item.end; ++i) parent.grow(m_boxes[m_index[i]]);
+    double parentArea = parent.area();
+
+    Split best;
+    std::vector<Box> rightBoxes(m_bins);
+    std::vector<uint32_t> rightCounts(m_bins);
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!active[axis]) continue;
+      const std::vector<Bin>& b = bins[axis];
+      Box acc;
+      uint32_t accCount = 0;
+      for (uint32_t k = m_bins - 1; k >= 1; --k) {
+        acc.grow(b[k].box);
+        accCount += b[k].count;
+        rightBoxes[k] = acc;
+        rightCounts[k] = accCount;
+      }
+      Box leftAcc;
+      uint32_t leftCount = 0;
+      for (uint32_t k = 1; k < m_bins; ++k) {
+        leftAcc.grow(b[k - 1].box);
+        leftCount += b[k - 1].count;
+        if (leftCount == 0 || rightCounts[k] == 0) continue;
+        // Flat scenes have zero-area parents: fall back to comparing unnormalised costs.
+        double weighted = leftAcc.area() * leftCount + rightBoxes[k].area() * rightCounts[k];
+        double cost = m_options.traversalCost + (parentArea > 0.0 ? weighted / parentArea : weighted);
+        if (cost < best.cost) {
+          best.found = true;
+          best.cost = cost;
+          best.axis = axis;
+          best.bin = k;
+          best.left = leftAcc;
+          best.right = rightBoxes[k];
+        }
+      }
+    }
+    return best;
+  }
+
+  uint32_t partitionByBin(const BuildItem& item, const Box& centroidBounds, const Split& split) {
+    double scale = binScale(centroidBounds, split.axis);
+    auto first = m_index.begin() + item.begin;
+    auto last = m_index.begin() + item.end;
+    auto midIt = std::partition(first, last, [&](uint32_t tri) {
+      return binOf(m_centroids[tri], split.axis, centroidBounds, scale) < split.bin;
+    });
+    return static_cast<uint32_t>(midIt - m_index.begin());
+  }
+
+  uint32_t partitionByMedian(const BuildItem& item, const Box& centroidBounds, Split& split) {
+    glm::vec3 extent = centroidBounds.hi - centroidBounds.lo;
+    int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    uint32_t mid = item.begin + (item.end - item.begin) / 2;
+    std::nth_element(m_index.begin() + item.begin, m_index.begin() + mid, m_index.begin() + item.end,
+                     [&](uint32_t a, uint32_t b) {
+                       float ca = m_centroids[a][axis], cb = m_centroids[b][axis];
+                       return ca < cb || (ca == cb && a < b);
+                     });
+    split.left = Box{};
+    split.right = Box{};
+    for (uint32_t i = item.begin; i < mid; ++i) split.left.grow(m_boxes[m_index[i]]);
+    for (uint32_t i = mid; i < item.end; ++i) split.right.grow(m_boxes[m_index[i]]);
+    return mid;
+  }
+
+  BvhBuildOptions m_options;
+  uint32_t m_bins = std::max(2u, m_options.bins);
+  uint32_t m_maxDepth = m_options.maxDepth;
+  std::vector<Box> m_boxes;
+  std::vector<glm::vec3> m_centroids;
+  std::vector<uint32_t> m_index;
+  std::vector<gpu::GpuBvhNode> m_nodes;
+};
+
+uint32_t wordOf(float f) { return std::bit_cast<uint32_t>(f); }
+
+template <bool kAnyHit>
+std::optional<RayHit> traverse(const Bvh& bvh, std::span<const BvhTriangle> triangles, glm::vec3 origin,
+                               glm::vec3 dir, float tMin, float tMax) {
+  PreparedRay ray = prepareRay(origin, dir);
+  std::optional<RayHit> best;
+  float tBest = tMax;
+  std::array<uint32_t, kBvhStackSize> stack;
+  uint32_t size = 0;
+  uint32_t node = 0;
+  while (true) {
+    const gpu::GpuBvhNode& n = bvh.nodes[node];
+    uint32_t count = wordOf(n.rightMinCount.w);
+    if (count > 0) {
+      uint32_t first = wordOf(n.rightMaxFirst.w);
+      for (uint32_t i = first; i < first + count; ++i) {
+        std::optional<RayHit> hit = intersectPrepared(triangles[i], ray, tMin, tMax);
+        if (!hit) continue;
+        hit->triangle = i;
+        if (kAnyHit) return hit;
+        if (!best || closer(*hit, *best)) {
+          best = hit;
+          tBest = hit->t;
+        }
+      }
+    } else {
+      glm::vec2 l = slabInterval(glm::vec3(n.leftMinLeftIndex), glm::vec3(n.leftMaxRightIndex), ray);
+      glm::vec2 r = slabInterval(glm::vec3(n.rightMinCount), glm::vec3(n.rightMaxFirst), ray);
+      // Inclusive at tBest: a triangle at exactly tBest with a smaller index must still be found.
+      bool hitLeft = std::max(l.x, tMin) <= std::min(l.y, tBest);
+      bool hitRight = std::max(r.x, tMin) <= std::min(r.y, tBest);
+      uint32_t leftNode = wordOf(n.leftMinLeftIndex.w);
+      uint32_t rightNode = wordOf(n.leftMaxRightIndex.w);
+      if (hitLeft && hitRight) {
+        bool leftFirst = l.x <= r.x;
+        stack[size++] = leftFirst ? rightNode : leftNode;
+        node = leftFirst ? leftNode : rightNode;
+        continue;
+      }
+      if (hitLeft || hitRight) {
+        node = hitLeft ? leftNode : rightNode;
+        continue;
+      }
+    }
+    if (size == 0) break;
+    node = stack[--size];
+  }
+  return best;
+}
+
+}  // namespace
+
+Bvh buildBvh(std::span<const BvhTriangle> triangles, const BvhBuildOptions& options) {
+  if (options.maxLeafSize == 0) fail("", "bvh.maxLeafSize", "must be at least 1");
+  if (options.bins < 2) fail("", "bvh.bins", "must be at least 2");
+  if (options.maxDepth < 1 || options.maxDepth > kBvhStackSize)
+    fail("", "bvh.maxDepth", "must be in [1, " + std::to_string(kBvhStackSize) + "]");
+  if (triangles.size() >= (size_t{1} << 31)) fail("", "bvh", "too many triangles");
+  if (ceilLog2(static_cast<uint32_t>(triangles.size())) > options.maxDepth)
+    fail("", "bvh.maxDepth", "too small for " + std::to_string(triangles.size()) + " triangles");
+  return Builder(triangles, options).build();
+}
+
+std::optional<RayHit> intersectTriangle(const BvhTriangle& tri, glm::vec3 origin, glm::vec3 dir, float tMin,
+                                        float tMax) {
+  return intersectPrepared(tri, prepareRay(origin, dir), tMin, tMax);
+}
+
+std::optional<RayHit> traceClosest(const Bvh& bvh, std::span<const BvhTriangle> triangles, glm::vec3 origin,
+                                   glm::vec3 dir, float tMin, float tMax) {
+  return traverse<false>(bvh, triangles, origin, dir, tMin, tMax);
+}
+
+bool traceAny(const Bvh& bvh, std::span<const BvhTriangle> triangles, glm::vec3 origin, glm::vec3 dir,
+              float tMin, float tMax) {
+  return traverse<true>(bvh, triangles, origin, dir, tMin, tMax).has_value();
+}
+
+std::optional<RayHit> traceClosestBruteForce(std::span<const BvhTriangle> triangles, glm::vec3 origin,
+                                             glm::vec3 dir, float tMin, float tMax) {
+  PreparedRay ray = prepareRay(origin, dir);
+  std::optional<RayHit> best;
+  for (size_t i = 0; i < triangles.size(); ++i) {
+    std::optional<RayHit> hit = intersectPrepared(triangles[i], ray, tMin, tMax);
+    if (!hit) continue;
+    hit->triangle = static_cast<uint32_t>(i);
+    if (!best || closer(*hit, *best)) best = hit;
+  }
+  return best;
+}
+
+}  // namespace vktg
