@@ -10,5 +10,6 @@ namespace vktg::cli {
 int runRender(const std::vector<std::string>& args);
 int runInfo(const std::vector<std::string>& args);
 int runBench(const std::vector<std::string>& args);
+int runInspect(const std::vector<std::string>& args);
 
 }  // namespace vktg::cli

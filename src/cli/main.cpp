@@ -21,6 +21,7 @@ struct Subcommand {
 const Subcommand kSubcommands[] = {
     {"render", vktg::cli::runRender, "render a time-gated image or transient stack"},
     {"bench", vktg::cli::runBench, "accuracy versus time and throughput benchmarks"},
+    {"inspect", vktg::cli::runInspect, "sizes, layers and statistics of an EXR output"},
     {"info", vktg::cli::runInfo, "Vulkan devices, features and limits"},
 };
 

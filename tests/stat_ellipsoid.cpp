@@ -1,0 +1,212 @@
+// Statistical tests of sampleEllipsoidConnection (shaders/lib/ellipsoid.glsl) on a small scene:
+// a square plane of two triangles and a tilted triangle above it, foci above both.
+//  1. Area density: draw s' from a smooth known density p_s, sample a connection, histogram the
+//     points per triangle. Their area density is p_s(L(x)) * |P_T grad L| * pdf_l(x) =
+//     p_s(L(x)) * density(x) (density = 1 / weight, CPU twin); a wrong Jacobian anywhere in the
+//     chain (co-area factor, curve pdf, selection) shows up as a chi-square failure.
+//  2. Unbiasedness, independent of the twin: for fixed s', mean(weight) must equal d/ds' of the
+//     area of {x on the surfaces : L(x) <= s'}, computed by quadrature of the surfaces.
+//  3. ellipsoidConnectionDensity (GPU) equals 1 / weight of the sample it describes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "support/chi2.h"
+#include "support/ellipsoid_reference.h"
+#include "support/gpu_test.h"
+
+namespace vktg::test {
+namespace {
+
+struct SampleIn {
+  float f1[3], f2[3], s, u[4], pad;
+};
+struct SampleOut {
+  uint32_t ok, triangle;
+  float position[3], bary[2], weight, density, p0[3], p1[3], p2[3], pad[2];
+};
+static_assert(sizeof(SampleIn) == 48 && sizeof(SampleOut) == 80);
+
+const dvec3 kF1(-0.3, 0.2, 1.5);
+const dvec3 kF2(0.4, -0.1, 1.2);
+
+std::vector<RefTriangle> sceneTriangles() {
+  return {{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}},
+          {{-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}},
+          {{-0.5, -0.5, 0.3}, {0.8, -0.2, 0.6}, {0.0, 0.7, 1.0}}};
+}
+
+Scene makeScene(const std::vector<RefTriangle>& tris) {
+  Scene scene;
+  scene.materials.push_back({});
+  Shape plane, tilted;
+  plane.name = "plane";
+  tilted.name = "tilted";
+  for (size_t t = 0; t < tris.size(); ++t) {
+    Shape& shape = t < 2 ? plane : tilted;
+    uint32_t base = uint32_t(shape.positions.size());
+    shape.positions.push_back(glm::vec3(tris[t].p0));
+    shape.positions.push_back(glm::vec3(tris[t].p1));
+    shape.positions.push_back(glm::vec3(tris[t].p2));
+    shape.triangles.push_back({base, base + 1, base + 2});
+  }
+  scene.shapes = {plane, tilted};
+  // The scene loader wants a light; a point light adds no triangles, so the surfaces are unchanged.
+  scene.pointLights.push_back({"light", glm::vec3(0.0f, 0.0f, 50.0f), 1.0f});
+  return scene;
+}
+
+// Index in `tris` of the GPU triangle with these vertices (any vertex order), or -1.
+int matchTriangle(const std::vector<RefTriangle>& tris, const SampleOut& o) {
+  dvec3 g[3] = {dvec3(o.p0[0], o.p0[1], o.p0[2]), dvec3(o.p1[0], o.p1[1], o.p1[2]), dvec3(o.p2[0], o.p2[1], o.p2[2])};
+  for (size_t t = 0; t < tris.size(); ++t) {
+    dvec3 v[3] = {tris[t].p0, tris[t].p1, tris[t].p2};
+    bool all = true;
+    for (const dvec3& q : g) all = all && std::any_of(v, v + 3, [&](const dvec3& w) { return glm::length(q - w) < 1e-6; });
+    if (all) return int(t);
+  }
+  return -1;
+}
+
+// (a, b) in [0, 1]^2 with u = a (1 - b), v = b: a square chart of the triangle without the
+// density jump along u + v = 1; dA = 2 area (1 - b) da db.
+dvec2 squareChart(const RefTriangle& tri, dvec3 x) {
+  dvec3 e01 = tri.p1 - tri.p0, e02 = tri.p2 - tri.p0, q = x - tri.p0;
+  double d00 = glm::dot(e01, e01), d01 = glm::dot(e01, e02), d11 = glm::dot(e02, e02);
+  double q0 = glm::dot(q, e01), q1 = glm::dot(q, e02);
+  double det = d00 * d11 - d01 * d01;
+  double u = (d11 * q0 - d01 * q1) / det, v = (d00 * q1 - d01 * q0) / det;
+  double b = std::clamp(v, 0.0, 1.0);
+  double a = b < 1.0 ? std::clamp(u / (1.0 - b), 0.0, 1.0) : 0.0;
+  return {a, b};
+}
+
+// s' ~ lo + (hi - lo) Beta(3, 3): smooth (C1) at both ends, so the area density has no jumps.
+const double kSLo = 2.0, kSHi = 3.6;
+double betaDensity(double s) {
+  if (s <= kSLo || s >= kSHi) return 0.0;
+  double t = (s - kSLo) / (kSHi - kSLo);
+  return 30.0 * t * t * (1 - t) * (1 - t) / (kSHi - kSLo);
+}
+
+std::vector<SampleIn> makeInputs(size_t n, uint32_t seed, double fixedS) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<SampleIn> in(n);
+  for (SampleIn& x : in) {
+    for (int k = 0; k < 3; ++k) {
+      x.f1[k] = float(kF1[k]);
+      x.f2[k] = float(kF2[k]);
+    }
+    if (fixedS > 0.0) {
+      x.s = float(fixedS);
+    } else {
+      float m[5];
+      for (float& v : m) v = unit(rng);
+      std::nth_element(m, m + 2, m + 5);  // median of 5 uniforms ~ Beta(3, 3)
+      x.s = float(kSLo + (kSHi - kSLo) * m[2]);
+    }
+    for (float& u : x.u) u = unit(rng);
+    x.pad = 0.0f;
+  }
+  return in;
+}
+
+TEST(StatEllipsoid, AreaDensityChiSquare) {
+  std::vector<RefTriangle> tris = sceneTriangles();
+  Scene scene = makeScene(tris);
+  const size_t n = 200000;
+  auto in = makeInputs(n, 21, 0.0);
+  auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene);
+
+  // Chart: x in [t, t + 1) is triangle t's a-coordinate, y its b-coordinate.
+  std::vector<dvec2> samples;
+  size_t densityMismatch = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const SampleOut& o = out[i];
+    if (!o.ok) continue;
+    ASSERT_TRUE(std::isfinite(o.weight) && o.weight > 0.0f) << i;
+    int t = matchTriangle(tris, o);
+    ASSERT_GE(t, 0) << "sample " << i << " on an unknown triangle";
+    dvec3 x(o.position[0], o.position[1], o.position[2]);
+    // The sample lies on its triangle and on the ellipsoid (float precision of unit-scale data).
+    ASSERT_NEAR(pathLengthRef(kF1, kF2, x), in[i].s, 1e-5) << i;
+    dvec3 g0(o.p0[0], o.p0[1], o.p0[2]), g1(o.p1[0], o.p1[1], o.p1[2]), g2(o.p2[0], o.p2[1], o.p2[2]);
+    ASSERT_LT(glm::length(g0 + double(o.bary[0]) * (g1 - g0) + double(o.bary[1]) * (g2 - g0) - x), 1e-5) << i;
+    if (!(std::abs(double(o.density) * o.weight - 1.0) < 1e-4)) ++densityMismatch;
+    dvec2 ab = squareChart(tris[t], x);
+    samples.push_back({std::min(t + ab.x, t + 1.0 - 1e-12), ab.y});
+  }
+  EXPECT_EQ(densityMismatch, 0u) << "ellipsoidConnectionDensity != 1 / weight";
+
+  auto density = [&](double cx, double b) {
+    int t = std::clamp(int(std::floor(cx)), 0, int(tris.size()) - 1);
+    double a = cx - t;
+    const RefTriangle& tri = tris[t];
+    dvec3 x = tri.p0 + a * (1.0 - b) * (tri.p1 - tri.p0) + b * (tri.p2 - tri.p0);
+    double s = pathLengthRef(kF1, kF2, x);
+    double pA = betaDensity(s) * ellipsoidDensityRef(tris, kF1, kF2, s, size_t(t), x);
+    return pA * glm::length(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0)) * (1.0 - b);
+  };
+  Grid2D grid{0.0, double(tris.size()), 0.0, 1.0, 12 * int(tris.size()), 12};
+  Chi2Result r = chi2Test2D(grid, samples, n, density, Chi2Options{});
+  EXPECT_TRUE(r.passed) << r.report;
+  // The density must integrate to the probability that the shell meets a surface at all:
+  // the p_s-mass of the lengths s' for which some triangle has a clipped arc (midpoint rule; the
+  // indicator's one jump costs at most one step times max p_s = 1.9e-5, Simpson's cell tolerance
+  // adds ~1e-6).
+  const int steps = 100000;
+  double hitMass = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    double s = kSLo + (i + 0.5) / steps * (kSHi - kSLo);
+    bool met = false;
+    for (const RefTriangle& tri : tris) {
+      EllipseArcsRef arcs;
+      met = met || ellipseOnTriangleRef(kF1, kF2, s, tri, arcs);
+    }
+    if (met) hitMass += betaDensity(s) * (kSHi - kSLo) / steps;
+  }
+  EXPECT_NEAR(r.densityMass, hitMass, 1e-4) << "the density's total mass is not the probability of a sample";
+  EXPECT_LT(hitMass, 0.99) << "the s' range should include lengths that meet nothing";
+}
+
+// d/ds' Area{L <= s'} by quadrature, with an error estimate from halving the step and doubling rows.
+struct Reference {
+  double value, error;
+};
+Reference areaDerivative(const std::vector<RefTriangle>& tris, double s) {
+  double coarse = shellAreaDerivative(tris, kF1, kF2, s, 1e-4 * s, 3000);
+  double fine = shellAreaDerivative(tris, kF1, kF2, s, 5e-5 * s, 6000);
+  return {fine, std::abs(fine - coarse)};
+}
+
+TEST(StatEllipsoid, MeanWeightIsAreaDerivative) {
+  std::vector<RefTriangle> tris = sceneTriangles();
+  Scene scene = makeScene(tris);
+  // 2.2: tilted triangle only; 2.9 and 3.1: the plane (both triangles) as well.
+  for (double s : {2.2, 2.9, 3.1}) {
+    const size_t n = 1 << 17;
+    auto in = makeInputs(n, 5 + uint32_t(s * 10), s);
+    auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene);
+    double sum = 0.0, sq = 0.0;
+    for (const SampleOut& o : out) {
+      ASSERT_TRUE(std::isfinite(o.weight));
+      double w = o.ok ? o.weight : 0.0;
+      sum += w;
+      sq += w * w;
+    }
+    double mean = sum / n;
+    double se = std::sqrt(std::max(sq / n - mean * mean, 0.0) / (n - 1));
+    Reference ref = areaDerivative(tris, double(in[0].s));
+    ASSERT_GT(ref.value, 0.0);
+    // 4.5 standard errors of the estimate, the quadrature's own error, and float32 evaluation of
+    // the weight (a few hundred ulps at most).
+    double tol = 4.5 * se + 2.0 * ref.error + 256.0 * std::ldexp(1.0, -24) * ref.value;
+    EXPECT_NEAR(mean, ref.value, tol) << "s' = " << s << " se = " << se << " quadrature error = " << ref.error;
+  }
+}
+
+}  // namespace
+}  // namespace vktg::test
