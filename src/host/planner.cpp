@@ -33,11 +33,15 @@ RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode
   plan.gateWidth = gate.width();
   plan.pathSpread = std::max(double(glm::length(prepared.boundsMax - prepared.boundsMin)), 1e-9);
   plan.firstEllipsoidVertex = scene.camera.type == CameraType::PointSensor ? 0 : 1;
-  NeeMode mode = requested != NeeMode::Auto ? requested : scene.render.nee;
+  bool fromScene = requested == NeeMode::Auto;
+  NeeMode mode = fromScene ? scene.render.nee : requested;
+  // Name where the choice came from: the scene file's render.nee or the --nee option.
+  std::string file = fromScene ? scene.source.string() : "";
+  std::string field = fromScene ? "render.nee" : "--nee";
   if (mode == NeeMode::Mis)
-    throw Error("--nee: 'mis' (combining standard and ellipsoidal NEE) is not implemented yet; use standard or ellipsoidal");
+    fail(file, field, "'mis' (combining standard and ellipsoidal NEE) is not implemented yet; use standard or ellipsoidal");
   if (mode == NeeMode::Ellipsoidal && gate.type == GateType::Steady)
-    throw Error("--nee: ellipsoidal NEE needs a gate of finite extent (it samples path lengths from the gate); the gate is steady");
+    fail(file, field, "ellipsoidal NEE needs a gate of finite extent (it samples path lengths from the gate); the gate is steady");
 
   if (mode == NeeMode::Auto) {
     if (gate.type == GateType::Steady) {

@@ -200,8 +200,14 @@ Gate parseGateSpec(const std::string& spec, const std::string& field) {
     gate.type = GateType::Bins;
     gate.binStart = number(0);
     gate.binWidth = number(1);
-    double count = std::stod(args[2]);
-    if (!(count >= 1 && count <= 65536 && count == std::floor(count)))
+    size_t used = 0;
+    double count = 0;
+    try {
+      count = std::stod(args[2], &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != args[2].size() || !(count >= 1 && count <= 65536 && count == std::floor(count)))
       fail("", field, "'" + spec + "': bin count must be an integer in [1, 65536]");
     gate.binCount = static_cast<uint32_t>(count);
   } else {

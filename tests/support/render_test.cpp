@@ -22,8 +22,10 @@ double twoSidedZ(double p) {
 }  // namespace
 
 RenderResult renderInTest(const Scene& scene, const RenderOptions& options) {
+  // The context must outlive the renderer: create it first so that it is destroyed last.
+  VulkanContext& context = testContext();
   static std::unique_ptr<Renderer> renderer;
-  if (!renderer) renderer = std::make_unique<Renderer>(testContext());
+  if (!renderer) renderer = std::make_unique<Renderer>(context);
   return renderer->render(scene, options);
 }
 

@@ -1,0 +1,46 @@
+// Double-precision CPU twin of shaders/lib/bsdf.glsl: f(wi, wo) and the density of bsdfSample, for
+// the same GpuMaterial and the same conventions (wi toward the camera side, wo toward the light
+// side, n the geometric normal; diffuse and conductor two-sided, dielectric one-sided with n
+// outside). Written from the formulas of Walter et al. 2007 in their own notation (incident and
+// transmitted indices), not transcribed from the shader, so the two catch each other's slips.
+#pragma once
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "vktg/gpu/shared.h"
+
+namespace vktg::test {
+
+// Same thresholds as the shader (kBsdfMinCos, roughness clamp).
+inline constexpr double kRefMinCos = 1e-6;
+inline constexpr double kRefMinAlpha = 1e-3;
+
+double bsdfEvalReference(const gpu::GpuMaterial& m, const glm::dvec3& n, const glm::dvec3& wi, const glm::dvec3& wo);
+double bsdfPdfReference(const gpu::GpuMaterial& m, const glm::dvec3& n, const glm::dvec3& wi, const glm::dvec3& wo);
+
+// Largest relative change per radian of f (eval = true) or of the pdf under small random rotations
+// (1e-6 rad) of n, wi and wo: the condition number that turns float rounding of the directions
+// into relative error. Infinite where a rotation crosses a discontinuity (a zero on one side).
+double bsdfSensitivityReference(const gpu::GpuMaterial& m, const glm::dvec3& n, const glm::dvec3& wi,
+                                const glm::dvec3& wo, bool eval, uint64_t seed);
+
+// Relative error a float32 shader may make where the twin's sensitivity is kappa. The shader's
+// directions pass through some twenty roundings (frame, dot products, half vector,
+// normalisation), and the refraction half vector wi + eta wo amplifies them further; the formula
+// then amplifies the angular error by kappa. kBsdfAmplifiedUlps bounds that rounding chain: the
+// worst excess over the random configurations of tests/gpu_bsdf.cpp measured 94 (that test prints
+// it, so a regression shows).
+inline constexpr double kBsdfRelTolerance = 1e-4;  // well-conditioned: ~50 float operations
+inline constexpr double kFloatEps = 5.96e-8;
+inline constexpr double kBsdfAmplifiedUlps = 128.0;
+inline double bsdfFloatTolerance(double kappa) { return kBsdfRelTolerance + kBsdfAmplifiedUlps * kFloatEps * kappa; }
+
+// Exact unpolarised Fresnel reflectance from index etaI into etaT, cosI > 0 on the incident side.
+double fresnelDielectricReference(double cosI, double etaI, double etaT);
+
+// Index of refraction of the medium on wo's side over that on wi's side (1 for reflection).
+double bsdfEtaRatioReference(const gpu::GpuMaterial& m, const glm::dvec3& n, const glm::dvec3& wi,
+                             const glm::dvec3& wo);
+
+}  // namespace vktg::test
