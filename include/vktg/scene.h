@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "vktg/gate.h"
+#include "vktg/parameters.h"
 
 namespace vktg {
 
@@ -67,6 +68,7 @@ struct Scene {
   Camera camera;
   Gate gate;
   RenderSettings render;
+  std::vector<Parameter> parameters;  // named scalars theta_k (vktg/parameters.h), 0 as written
 
   size_t triangleCount() const;
   bool hasEmitters() const;

@@ -76,7 +76,8 @@ class SceneParser {
   Scene parse(const Json& json) {
     m_scene.source = m_file;
     const JsonObject root(JsonValue{&json, m_file, ""},
-                          {"version", "description", "camera", "gate", "materials", "shapes", "lights", "render"});
+                          {"version", "description", "camera", "gate", "materials", "shapes", "lights", "render",
+                           "parameters"});
     const JsonValue version = root.field("version");
     const uint32_t v = version.uinteger(0, std::numeric_limits<uint32_t>::max());
     if (v != kSceneVersion)
@@ -98,6 +99,11 @@ class SceneParser {
     if (!m_scene.hasEmitters())
       fail(m_file, "shapes, lights",
            "no emitter: the scene needs a shape with emission > 0 or a point light with intensity > 0");
+    // Last: parameters refer to shapes, lights, materials and the gate, and check how they are used.
+    if (root.has("parameters")) {
+      const JsonValue parameters = root.field("parameters");
+      for (size_t i = 0; i < parameters.array().size(); ++i) parseParameter(parameters.element(i));
+    }
     return std::move(m_scene);
   }
 
@@ -286,7 +292,11 @@ class SceneParser {
     if (type == "rectangle") mesh = makeRectangle();
     if (type == "cube") mesh = makeCube();
     if (type == "sphere") mesh = makeIcosphere(o.uinteger("subdivisions", 3, 0, kMaxSphereSubdivisions));
-    if (type == "heightfield") mesh = parseHeightfield(o);
+    if (type == "heightfield") {
+      mesh = parseHeightfield(o);
+      // One unit of a height in the file moves its vertex by the image of local +y.
+      m_heightfieldUp[name] = glm::vec3(glm::mat3(transform) * glm::vec3(0, 1, 0));
+    }
     transformMesh(mesh, transform);
     if (!(meshArea(mesh.positions, mesh.triangles) > 0)) value.fail("zero area: the shape has no visible surface");
     Shape shape;
@@ -347,11 +357,146 @@ class SceneParser {
     }
   }
 
+  // Parameters (docs/scene-format.md "Parameters"): what each type binds to, read strictly, then
+  // checked for a derivative that is not identically zero (parameterProblem).
+  void parseParameter(const JsonValue& value) {
+    const std::string type =
+        typeOf(value, {"translate", "rotate", "displace", "heightfield_heights", "light_position", "emission",
+                       "intensity", "albedo", "roughness", "ior", "gate_center"});
+    if (type == "heightfield_heights") {
+      parseHeightfieldHeights(value);
+      return;
+    }
+
+    struct Form {
+      const char* type;
+      ParameterKind kind;
+      const char* target;  // field naming the target, "" for none
+    };
+    static const Form kForms[] = {
+        {"translate", ParameterKind::Translate, "shape"},   {"rotate", ParameterKind::Rotate, "shape"},
+        {"displace", ParameterKind::Displace, "shape"},     {"light_position", ParameterKind::LightPosition, "light"},
+        {"emission", ParameterKind::Emission, "shape"},     {"intensity", ParameterKind::Intensity, "light"},
+        {"albedo", ParameterKind::Albedo, "material"},      {"roughness", ParameterKind::Roughness, "material"},
+        {"ior", ParameterKind::Ior, "material"},            {"gate_center", ParameterKind::GateCenter, ""},
+    };
+    const Form& form = *std::find_if(std::begin(kForms), std::end(kForms), [&](const Form& f) { return type == f.type; });
+    const std::string targetKey = form.target;
+    std::vector<std::string_view> allowed = {"name", "type"};
+    if (!targetKey.empty()) allowed.push_back(targetKey);
+    if (type == "translate" || type == "rotate" || type == "light_position") allowed.push_back("axis");
+    if (type == "rotate") allowed.push_back("center");
+    if (type == "displace") allowed.insert(allowed.end(), {"vertices", "direction"});
+    const JsonObject o(value, allowed);
+
+    Parameter p;
+    p.kind = form.kind;
+    p.name = o.field("name").string();
+    claimParameterName(o.field("name"), p.name);
+    if (!targetKey.empty()) {
+      const JsonValue target = o.field(targetKey);
+      p.target = target.string();
+      const bool known = targetKey == "shape"   ? findShape(p.target) != nullptr
+                         : targetKey == "light" ? std::any_of(m_scene.pointLights.begin(), m_scene.pointLights.end(),
+                                                              [&](const PointLight& l) { return l.name == p.target; })
+                                                : m_materials.count(p.target) > 0;
+      if (!known) target.fail("unknown " + targetKey + " \"" + p.target + "\"");
+    }
+    if (type == "translate" || type == "rotate" || type == "light_position")
+      p.axis = unitVector(o.field("axis"), "axis");
+    if (type == "rotate") {
+      const Shape& shape = *findShape(p.target);
+      glm::vec3 lo = shape.positions.front(), hi = lo;
+      for (const glm::vec3& v : shape.positions) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+      }
+      p.center = o.vec3("center", 0.5f * (lo + hi));
+    }
+    if (type == "displace") {
+      p.axis = unitVector(o.field("direction"), "direction");
+      p.vertices = readVertices(o.field("vertices"), *findShape(p.target));
+    }
+    const std::string problem = parameterProblem(m_scene, p);
+    if (!problem.empty()) vktg::fail(m_file, o.pathOf(targetKey.empty() ? "type" : targetKey), problem);
+    m_scene.parameters.push_back(std::move(p));
+  }
+
+  // {"type": "heightfield_heights", "shape": S, "name_prefix": P}: one displacement parameter P<k>
+  // per vertex k of heightfield S, so that θ_k is added to heights[k] of the file.
+  void parseHeightfieldHeights(const JsonValue& value) {
+    const JsonObject o(value, {"type", "shape", "name_prefix"});
+    const JsonValue shapeField = o.field("shape");
+    const std::string shapeName = shapeField.string();
+    const Shape* shape = findShape(shapeName);
+    if (!shape) shapeField.fail("unknown shape \"" + shapeName + "\"");
+    const auto up = m_heightfieldUp.find(shapeName);
+    if (up == m_heightfieldUp.end()) shapeField.fail("shape \"" + shapeName + "\" is not a heightfield");
+    const std::string prefix = o.string("name_prefix", shapeName + "_h");
+    const JsonValue where = o.has("name_prefix") ? o.field("name_prefix") : value;
+    if (!isValidParameterName(prefix))
+      where.fail("invalid name prefix \"" + prefix + "\" (use letters, digits, '_', '-' and '.')");
+    for (uint32_t k = 0; k < shape->positions.size(); ++k) {
+      Parameter p;
+      p.name = prefix + std::to_string(k);
+      p.kind = ParameterKind::Displace;
+      p.target = shapeName;
+      p.axis = up->second;
+      p.vertices = {k};
+      claimParameterName(where, p.name);
+      m_scene.parameters.push_back(std::move(p));
+    }
+  }
+
+  void claimParameterName(const JsonValue& where, const std::string& name) {
+    if (!isValidParameterName(name))
+      where.fail("invalid parameter name \"" + name + "\" (use letters, digits, '_', '-' and '.')");
+    if (!m_parameterNames.insert(name).second) where.fail("duplicate parameter name \"" + name + "\"");
+  }
+
+  const Shape* findShape(const std::string& name) const {
+    for (const Shape& shape : m_scene.shapes)
+      if (shape.name == name) return &shape;
+    return nullptr;
+  }
+
+  static glm::vec3 unitVector(const JsonValue& field, const char* what) {
+    const glm::vec3 v = field.vec3();
+    const float length = glm::length(v);
+    if (!(length > 0)) field.fail(std::string("zero ") + what + ": it must give a direction");
+    return v / length;
+  }
+
+  static std::vector<uint32_t> readVertices(const JsonValue& field, const Shape& shape) {
+    const uint32_t count = uint32_t(shape.positions.size());
+    std::vector<uint32_t> vertices;
+    if (field.json().is_string()) {
+      if (field.string() != "all") field.fail("unknown value \"" + field.string() + "\" (expected \"all\" or a list of vertex indices)");
+      for (uint32_t i = 0; i < count; ++i) vertices.push_back(i);
+      return vertices;
+    }
+    if (!field.json().is_array()) field.fail("wrong type: expected \"all\" or an array of vertex indices");
+    if (field.json().empty()) field.fail("empty vertex list: nothing would move");
+    std::set<uint32_t> seen;
+    for (size_t i = 0; i < field.json().size(); ++i) {
+      const JsonValue element = field.element(i);
+      const uint32_t v = element.uinteger(0, std::numeric_limits<uint32_t>::max());
+      if (v >= count)
+        element.fail("vertex index " + std::to_string(v) + " out of range (shape \"" + shape.name + "\" has " +
+                      std::to_string(count) + " vertices)");
+      if (!seen.insert(v).second) element.fail("vertex index " + std::to_string(v) + " given twice");
+      vertices.push_back(v);
+    }
+    return vertices;
+  }
+
   std::string m_file;
   fs::path m_baseDir;
   Scene m_scene;
   std::map<std::string, uint32_t> m_materials;
   std::set<std::string> m_names;
+  std::set<std::string> m_parameterNames;
+  std::map<std::string, glm::vec3> m_heightfieldUp;  // heightfield shape -> world image of local +y
 };
 
 std::string readTextFile(const fs::path& path) {
