@@ -51,6 +51,10 @@ void main() {
     v.isSensor = true;
     v.throughput = 1.0;
     v.len = 0.0;
+    v.previousPosition = v.position;  // the sensor starts the path: nothing before it
+    v.previousLen = 0.0;
+    v.arrivalPdf = 0.0;
+    v.triangle = 0xffffffffu;
     neeAtVertex(i, v, 0u, pixel, sampleIndex);
   }
   paths[i] = ps;

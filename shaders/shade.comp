@@ -61,6 +61,10 @@ void main() {
   v.isSensor = false;
   v.throughput = throughput;
   v.len = len;
+  v.previousPosition = ps.position.xyz;
+  v.previousLen = ps.position.w;
+  v.arrivalPdf = ps.misc.x;
+  v.triangle = floatBitsToUint(hit.tuvTriangle.w);
   neeAtVertex(path, v, depth, pixel, sampleIndex);
 
   if (depth >= frame.gateInfo.w) {

@@ -49,8 +49,18 @@ float gateSampleLength(vec2 u, out float s) {
     float z = (s - frame.gate.x) / frame.gate.y;
     return frame.gate.y * kSqrtTwoPi * exp(0.5 * z * z);
   }
-  float lo = frame.gateSupport.x, hi = frame.gateSupport.y;
+  float lo = frame.gateSupport.x, hi = frame.gateSupport.z;
   s = mix(lo, hi, u.x);
   return hi - lo;
+}
+
+// The density gateSampleLength draws s from (for MIS weights of other strategies' paths).
+float gateSamplePdf(float s) {
+  if (kSpecGateTypeValue == kGateGaussian) {
+    float z = (s - frame.gate.x) / frame.gate.y;
+    return exp(-0.5 * z * z) / (frame.gate.y * kSqrtTwoPi);
+  }
+  float lo = frame.gateSupport.x, hi = frame.gateSupport.z;
+  return (s >= lo && s <= hi) ? 1.0 / (hi - lo) : 0.0;
 }
 #endif

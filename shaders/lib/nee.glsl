@@ -19,6 +19,12 @@ struct NeeVertex {
   bool isSensor;
   float throughput;
   float len;
+  // For the MIS weight of --nee mis: the vertex before this one, the path length there, the
+  // solid-angle pdf with which this vertex was reached from it, and this vertex's triangle.
+  vec3 previousPosition;
+  float previousLen;
+  float arrivalPdf;
+  uint triangle;
 };
 
 float vertexEval(NeeVertex v, vec3 wo) {
@@ -29,7 +35,20 @@ float vertexPdf(NeeVertex v, vec3 wo) {
   return v.isSensor ? max(dot(v.normal, wo), 0.0) * kInvPi : bsdfPdf(v.material, v.normal, v.wi, wo);
 }
 
-void standardNee(uint path, NeeVertex v, vec3 u) {
+// --nee mis, for a path x_{n-2} -> x_{n-1} -> y of total length s: the area density of x_{n-1}
+// under BSDF sampling from x_{n-2} (standard NEE's way) and under the ellipsoidal connection
+// from x_{n-2} (gate density times the conic density). The light's density is common to both.
+float areaPdfBsdf(float pdfSolidAngle, vec3 from, vec3 to, vec3 normalAtTo) {
+  vec3 d = to - from;
+  float dist2 = dot(d, d);
+  return pdfSolidAngle * abs(dot(normalAtTo, d)) / (dist2 * sqrt(dist2));
+}
+
+float areaPdfEllipsoidal(vec3 from, float lenAtFrom, vec3 light, float totalLen, uint triangle, vec3 position) {
+  return gateSamplePdf(totalLen) * ellipsoidConnectionDensity(from, light, totalLen - lenAtFrom, triangle, position);
+}
+
+void standardNee(uint path, NeeVertex v, uint depth, vec3 u) {
   LightSample ls;
   if (!sampleLight(u, ls)) return;
   vec3 d = ls.position - v.position;
@@ -40,6 +59,11 @@ void standardNee(uint path, NeeVertex v, vec3 u) {
   float f = vertexEval(v, wo);
   if (f == 0.0) return;
   float cosX = abs(dot(v.normal, wo));
+  float len = v.len, comp = 0.0;
+  addLength(len, comp, dist);
+  // Paths an ellipsoidal connection can also make are weighted against it (and emitter hits do
+  // not count for them); shorter ones are weighted against BSDF sampling of the emitter.
+  bool againstEllipsoid = kSpecNeeModeValue == kNeeMis && depth >= frame.pathInfo.y + 1u;
   float value;
   if (ls.isPoint) {
     value = v.throughput * f * cosX * ls.emission / (dist2 * ls.pdf);
@@ -47,11 +71,14 @@ void standardNee(uint path, NeeVertex v, vec3 u) {
     float cosY = dot(ls.normal, -wo);
     if (cosY <= 0.0) return;
     float pdfLight = ls.pdf * dist2 / cosY;  // solid angle at x
-    float mis = powerHeuristic(pdfLight, vertexPdf(v, wo));
+    float mis = againstEllipsoid ? 1.0 : powerHeuristic(pdfLight, vertexPdf(v, wo));
     value = v.throughput * f * cosX * ls.emission * cosY / (dist2 * ls.pdf) * mis;
   }
-  float len = v.len, comp = 0.0;
-  addLength(len, comp, dist);
+  if (againstEllipsoid && value != 0.0) {
+    float pBsdf = areaPdfBsdf(v.arrivalPdf, v.previousPosition, v.position, v.normal);
+    float pEll = areaPdfEllipsoidal(v.previousPosition, v.previousLen, ls.position, len, v.triangle, v.position);
+    value *= powerHeuristic(pBsdf, pEll);
+  }
   queueShadowRay(path, v.position, ls.position, vec3(0.0), 1u, value, len);
 }
 
@@ -89,14 +116,22 @@ void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllip
     g2 *= cosY;
   }
   float value = v.throughput * f1 * g1 * f2 * g2 * ls.emission * es.weight * invPdfS / ls.pdf;
+  if (kSpecNeeModeValue == kNeeMis) {
+    float pBsdf = vertexPdf(v, w1) * abs(dot(xk.normal, w1)) / (len1 * len1);
+    float pEll = 1.0 / (invPdfS * es.weight);
+    value *= powerHeuristic(pEll, pBsdf);
+  }
   queueShadowRay(path, v.position, xk.position, ls.position, 2u, value, s);
 }
 
 // Which estimator covers which paths (pathInfo.y = e, the first vertex that can start an
 // ellipsoidal connection: 0 at a point sensor, 1 behind a pinhole): in ellipsoidal mode, paths
 // with at most e + 1 segments use standard NEE (and emitter hits), longer ones ellipsoidal NEE.
-bool standardNeeAt(uint depth) { return kSpecNeeModeValue == kNeeStandard || depth <= frame.pathInfo.y; }
-bool ellipsoidalNeeAt(uint depth) { return kSpecNeeModeValue == kNeeEllipsoidal && depth >= frame.pathInfo.y; }
+// In mis mode both run wherever they can, and the weights above split the paths between them.
+bool standardNeeAt(uint depth) {
+  return kSpecNeeModeValue != kNeeEllipsoidal || depth <= frame.pathInfo.y;
+}
+bool ellipsoidalNeeAt(uint depth) { return kSpecNeeModeValue != kNeeStandard && depth >= frame.pathInfo.y; }
 // An emitter hit at vertex `depth` closes a path of `depth` segments.
 bool emitterHitCounts(uint depth) { return kSpecNeeModeValue == kNeeStandard || depth <= frame.pathInfo.y + 1u; }
 
@@ -104,7 +139,7 @@ void neeAtVertex(uint path, NeeVertex v, uint depth, uint pixel, uint sampleInde
   uint seed = frame.image.w;
   if (standardNeeAt(depth)) {
     Rng r = rngForBounce(pixel, sampleIndex, depth, kRngSlotLight, seed);
-    standardNee(path, v, rngNext4(r).xyz);
+    standardNee(path, v, depth, rngNext4(r).xyz);
   }
   if (ellipsoidalNeeAt(depth)) {
     Rng rg = rngForBounce(pixel, sampleIndex, depth, kRngSlotGate, seed);

@@ -23,7 +23,7 @@ std::vector<OptionSpec> sceneOverrideOptions() {
           {"--seed", "N", "random seed (renders are reproducible from it)"},
           {"--max-depth", "N", "maximum path vertices after the camera"},
           {"--resolution", "WxH", "image size (perspective cameras)"},
-          {"--nee", "MODE", "auto | standard | ellipsoidal (default: the planner's choice)"}};
+          {"--nee", "MODE", "auto | standard | ellipsoidal | mis (default: the planner's choice)"}};
 }
 
 std::unique_ptr<VulkanContext> makeContext(const ParsedArgs& args) {
@@ -45,7 +45,7 @@ NeeMode parseNeeMode(const std::string& text) {
   if (text == "standard") return NeeMode::Standard;
   if (text == "ellipsoidal") return NeeMode::Ellipsoidal;
   if (text == "mis") return NeeMode::Mis;
-  throw UsageError("--nee: '" + text + "' is not one of auto, standard, ellipsoidal");
+  throw UsageError("--nee: '" + text + "' is not one of auto, standard, ellipsoidal, mis");
 }
 
 uint64_t memoryBudget(const ParsedArgs& args) {

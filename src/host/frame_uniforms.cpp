@@ -51,9 +51,8 @@ void setGateUniforms(gpu::FrameUniforms& f, const Gate& gate, bool gateCutoff) {
   }
   float supportMax = gateCutoff ? float(gate.supportMax()) : std::numeric_limits<float>::infinity();
   float normaliser = (gate.type == GateType::Gaussian && gate.normalize) ? float(1.0 / (gate.sigma * kSqrtTwoPi)) : 1.0f;
-  double integral = gate.integral();
-  f.gateSupport = glm::vec4(float(gate.supportMin()), supportMax, std::isfinite(integral) ? float(integral) : 0.0f,
-                            normaliser);
+  float trueMax = std::isfinite(gate.supportMax()) ? float(gate.supportMax()) : 0.0f;
+  f.gateSupport = glm::vec4(float(gate.supportMin()), supportMax, trueMax, normaliser);
   f.gateInfo.x = uint32_t(gate.type);
   f.gateInfo.y = gate.layers();
 }

@@ -38,10 +38,9 @@ RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode
   // Name where the choice came from: the scene file's render.nee or the --nee option.
   std::string file = fromScene ? scene.source.string() : "";
   std::string field = fromScene ? "render.nee" : "--nee";
-  if (mode == NeeMode::Mis)
-    fail(file, field, "'mis' (combining standard and ellipsoidal NEE) is not implemented yet; use standard or ellipsoidal");
-  if (mode == NeeMode::Ellipsoidal && gate.type == GateType::Steady)
-    fail(file, field, "ellipsoidal NEE needs a gate of finite extent (it samples path lengths from the gate); the gate is steady");
+  if ((mode == NeeMode::Ellipsoidal || mode == NeeMode::Mis) && gate.type == GateType::Steady)
+    fail(file, field, std::string(neeModeName(mode)) +
+                          " NEE needs a gate of finite extent (it samples path lengths from the gate); the gate is steady");
 
   if (mode == NeeMode::Auto) {
     if (gate.type == GateType::Steady) {
@@ -59,7 +58,9 @@ RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode
     plan.reasons.push_back(std::string(neeModeName(mode)) + " NEE: requested");
   }
   plan.nee = mode;
-  if (mode == NeeMode::Ellipsoidal)
+  if (mode == NeeMode::Mis)
+    plan.reasons.push_back("mis: paths long enough for an ellipsoidal connection get both it and standard NEE, weighted by the power heuristic");
+  if (mode == NeeMode::Ellipsoidal || mode == NeeMode::Mis)
     plan.reasons.push_back(plan.firstEllipsoidVertex == 0
                                ? "point sensor: ellipsoidal connections start at the sensor; direct light uses standard NEE"
                                : "pinhole camera: paths of 1-2 segments use standard NEE and emitter hits, longer ones ellipsoidal connections");

@@ -67,7 +67,9 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
 
   gpu::FrameUniforms frame = sceneFrameUniforms(scene, prepared, gpuScene);
   setGateUniforms(frame, scene.gate, options.gateCutoff);
-  frame.gateInfo.z = plan.nee == NeeMode::Ellipsoidal ? gpu::kNeeEllipsoidal : gpu::kNeeStandard;
+  frame.gateInfo.z = plan.nee == NeeMode::Ellipsoidal ? gpu::kNeeEllipsoidal
+                     : plan.nee == NeeMode::Mis     ? gpu::kNeeMis
+                                                    : gpu::kNeeStandard;
   frame.pathInfo = glm::uvec4(scene.render.rouletteDepth, plan.firstEllipsoidVertex, 1, batchSize);
   frame.chunkShift.z = film.shift;
   Buffer frameBuffer(context, sizeof frame, MemoryKind::Device, "frame");

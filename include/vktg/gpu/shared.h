@@ -40,6 +40,7 @@ VKTG_CONST(uint, kLightPoint, 1);
 
 VKTG_CONST(uint, kNeeStandard, 0);
 VKTG_CONST(uint, kNeeEllipsoidal, 1);
+VKTG_CONST(uint, kNeeMis, 2);           // both, weighted by the power heuristic
 
 // Bits of PathState.ids.w
 VKTG_CONST(uint, kPathFlagAfterTransmission, 1);
@@ -91,7 +92,7 @@ VKTG_CONST(uint, kShadowRaysPerPath, 3);
 
 // ---- Specialisation constants (ids) and push constants of the passes ---------------------------
 VKTG_CONST(uint, kSpecMaterialMask, 0);   // bit per kMaterial* present in the scene
-VKTG_CONST(uint, kSpecNeeMode, 1);        // kNeeStandard / kNeeEllipsoidal
+VKTG_CONST(uint, kSpecNeeMode, 1);        // kNeeStandard / kNeeEllipsoidal / kNeeMis
 VKTG_CONST(uint, kSpecGateType, 2);       // kGate*
 VKTG_CONST(uint, kSpecCameraType, 3);     // kCamera*
 VKTG_CONST(uint, kSpecLightMask, 4);      // bit kLightAreaTriangle / kLightPoint present
@@ -151,7 +152,8 @@ struct FrameUniforms {
   uvec4 image;            // x: width, y: height, z: spp, w: seed
   uvec4 sceneCounts;      // x: triangles, y: lights, z: shapes, w: camera type
   vec4 gate;              // gaussian/tgauss: (mu, sigma, a, b); box: (-, -, a, b); bins: (start, width, -, -)
-  vec4 gateSupport;       // x: support min, y: support max, z: integral of W (for gate sampling), w: gaussian normaliser
+  vec4 gateSupport;       // x: support min, y: where paths end (support max, or inf without the cutoff),
+                          // z: support max (gate sampling), w: gaussian normaliser
   uvec4 gateInfo;         // x: gate type, y: bin count, z: nee mode, w: max depth
   uvec4 pathInfo;         // x: roulette depth, y: first vertex with an ellipsoidal connection, z: channels, w: batch size
   vec4 sceneInfo;         // x: ray epsilon (scene-scale relative), y: scene diagonal, z: total light power, w: unused
