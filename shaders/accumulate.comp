@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Pass accumulate: adds each finished path's per-layer value (and its square, for the
 // per-pixel variance) to the film.
-// Reads: pathAccum, paths[].ids.x (pixel). Writes: film, filmSq (atomic: paths share pixels).
+// Reads: pathAccum, paths[].ids.x (pixel). Writes: film sums and sums of squares (atomic:
+// paths share pixels).
 // Dispatch: ceil(active paths * layers / kWorkgroupSize) groups.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"

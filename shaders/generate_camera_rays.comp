@@ -27,6 +27,7 @@ void main() {
   ps.position = vec4(frame.cameraPosition.xyz, 0.0);
   ps.ids = uvec4(pixel, sampleIndex, 0u, 0u);
   ps.misc = vec4(0.0, 1.0, 0.0, 0.0);
+  ps.previous = vec4(frame.cameraPosition.xyz, uintBitsToFloat(0xffffffffu));
   if (kSpecCameraTypeValue == kCameraPerspective) {
     float px = (float(pixel % frame.image.x) + u.x) / float(frame.image.x);
     float py = (float(pixel / frame.image.x) + u.y) / float(frame.image.y);

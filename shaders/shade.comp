@@ -67,6 +67,7 @@ void main() {
   v.triangle = floatBitsToUint(hit.tuvTriangle.w);
   neeAtVertex(path, v, depth, pixel, sampleIndex);
 
+  // gateInfo.w (max depth) is the most segments a path may have: NEE here made depth + 1.
   if (depth >= frame.gateInfo.w) {
     atomicAdd(counters[kCounterEndedByDepth], 1u);
     return;
@@ -91,6 +92,7 @@ void main() {
 
   float ior = ps.misc.y;
   if (bs.transmitted) ior = dot(sp.normal, bs.wo) < 0.0 ? v.material.ior : 1.0;
+  ps.previous = vec4(ps.position.xyz, hit.tuvTriangle.w);
   ps.position = vec4(sp.position, len);
   ps.direction = vec4(bs.wo, comp);
   ps.normal = vec4(sp.normal, throughput);

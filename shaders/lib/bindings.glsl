@@ -16,7 +16,6 @@ layout(std140, set = 0, binding = kBindingFrame) uniform FrameBlock { FrameUnifo
 VKTG_CHUNKS(GpuTriangle, triangles, kBindingTriangles)
 VKTG_CHUNKS(GpuBvhNode, bvhNodes, kBindingBvhNodes)
 VKTG_CHUNKS(float, film, kBindingFilm)
-VKTG_CHUNKS(float, filmSq, kBindingFilmSq)
 
 layout(std430, set = 0, binding = kBindingTriangleVerts) readonly buffer TriangleVertsBlock { uvec4 triangleVerts[]; };
 layout(std430, set = 0, binding = kBindingVertices) readonly buffer VerticesBlock { vec4 vertices[]; };
@@ -30,6 +29,13 @@ layout(std430, set = 0, binding = kBindingShadowQueue) buffer ShadowQueueBlock {
 layout(std430, set = 0, binding = kBindingCounters) buffer CountersBlock { uint counters[]; };
 layout(std430, set = 0, binding = kBindingDispatchArgs) buffer DispatchArgsBlock { uint dispatchArgs[]; };
 layout(std430, set = 0, binding = kBindingPathAccum) buffer PathAccumBlock { float pathAccum[]; };
+
+#ifdef VKTG_DERIVATIVE
+layout(std430, set = 0, binding = kBindingVertexVelocity) readonly buffer VertexVelocityBlock { vec4 vertexVelocity[]; };
+layout(std430, set = 0, binding = kBindingLanes) readonly buffer LanesBlock { GpuLane lanes[]; };
+layout(std430, set = 0, binding = kBindingPathDerivs) buffer PathDerivsBlock { PathDerivative pathDerivs[]; };
+layout(std430, set = 0, binding = kBindingShadowDerivs) buffer ShadowDerivsBlock { vec2 shadowDerivs[]; };
+#endif
 
 GpuTriangle loadTriangle(uint i) {
   uint c = i >> frame.chunkShift.x;
@@ -49,32 +55,36 @@ GpuBvhNode loadBvhNode(uint i) {
   return bvhNodes3[j];
 }
 
-// Adds to film and film-of-squares element i (atomic: many paths share a pixel).
+// Film element i: its sample sum at float 2i and sum of squares at 2i + 1 (same chunk: chunks
+// hold a power-of-two count of floats). Atomic: many paths share a pixel.
 void addToFilm(uint i, float value) {
-  uint c = i >> frame.chunkShift.z;
-  uint j = i & ((1u << frame.chunkShift.z) - 1u);
+  uint k = 2u * i;
+  uint c = k >> frame.chunkShift.z;
+  uint j = k & ((1u << frame.chunkShift.z) - 1u);
   float sq = value * value;
-  if (c == 0u) { atomicAdd(film0[j], value); atomicAdd(filmSq0[j], sq); }
-  else if (c == 1u) { atomicAdd(film1[j], value); atomicAdd(filmSq1[j], sq); }
-  else if (c == 2u) { atomicAdd(film2[j], value); atomicAdd(filmSq2[j], sq); }
-  else { atomicAdd(film3[j], value); atomicAdd(filmSq3[j], sq); }
+  if (c == 0u) { atomicAdd(film0[j], value); atomicAdd(film0[j + 1u], sq); }
+  else if (c == 1u) { atomicAdd(film1[j], value); atomicAdd(film1[j + 1u], sq); }
+  else if (c == 2u) { atomicAdd(film2[j], value); atomicAdd(film2[j + 1u], sq); }
+  else { atomicAdd(film3[j], value); atomicAdd(film3[j + 1u], sq); }
 }
 
-float loadFilm(uint i) {
-  uint c = i >> frame.chunkShift.z;
-  uint j = i & ((1u << frame.chunkShift.z) - 1u);
-  if (c == 0u) return film0[j];
-  if (c == 1u) return film1[j];
-  if (c == 2u) return film2[j];
-  return film3[j];
+vec2 loadFilm(uint i) {
+  uint k = 2u * i;
+  uint c = k >> frame.chunkShift.z;
+  uint j = k & ((1u << frame.chunkShift.z) - 1u);
+  if (c == 0u) return vec2(film0[j], film0[j + 1u]);
+  if (c == 1u) return vec2(film1[j], film1[j + 1u]);
+  if (c == 2u) return vec2(film2[j], film2[j + 1u]);
+  return vec2(film3[j], film3[j + 1u]);
 }
 
-float loadFilmSq(uint i) {
-  uint c = i >> frame.chunkShift.z;
-  uint j = i & ((1u << frame.chunkShift.z) - 1u);
-  if (c == 0u) return filmSq0[j];
-  if (c == 1u) return filmSq1[j];
-  if (c == 2u) return filmSq2[j];
-  return filmSq3[j];
+void storeFilm(uint i, vec2 value) {
+  uint k = 2u * i;
+  uint c = k >> frame.chunkShift.z;
+  uint j = k & ((1u << frame.chunkShift.z) - 1u);
+  if (c == 0u) { film0[j] = value.x; film0[j + 1u] = value.y; }
+  else if (c == 1u) { film1[j] = value.x; film1[j + 1u] = value.y; }
+  else if (c == 2u) { film2[j] = value.x; film2[j + 1u] = value.y; }
+  else { film3[j] = value.x; film3[j + 1u] = value.y; }
 }
 #endif

@@ -128,10 +128,14 @@ void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllip
 // ellipsoidal connection: 0 at a point sensor, 1 behind a pinhole): in ellipsoidal mode, paths
 // with at most e + 1 segments use standard NEE (and emitter hits), longer ones ellipsoidal NEE.
 // In mis mode both run wherever they can, and the weights above split the paths between them.
+// A connection from vertex `depth` closes a path of depth + 1 (standard) or depth + 2 (ellipsoidal)
+// segments; paths have at most frame.gateInfo.w segments (max depth).
 bool standardNeeAt(uint depth) {
-  return kSpecNeeModeValue != kNeeEllipsoidal || depth <= frame.pathInfo.y;
+  return (kSpecNeeModeValue != kNeeEllipsoidal || depth <= frame.pathInfo.y) && depth + 1u <= frame.gateInfo.w;
 }
-bool ellipsoidalNeeAt(uint depth) { return kSpecNeeModeValue != kNeeStandard && depth >= frame.pathInfo.y; }
+bool ellipsoidalNeeAt(uint depth) {
+  return kSpecNeeModeValue != kNeeStandard && depth >= frame.pathInfo.y && depth + 2u <= frame.gateInfo.w;
+}
 // An emitter hit at vertex `depth` closes a path of `depth` segments.
 bool emitterHitCounts(uint depth) { return kSpecNeeModeValue == kNeeStandard || depth <= frame.pathInfo.y + 1u; }
 

@@ -10,7 +10,8 @@ static_assert(sizeof(GpuShape) == 16);
 static_assert(sizeof(GpuMaterial) == 16);
 static_assert(sizeof(GpuLight) == 32 && offsetof(GpuLight, type) == 16);
 static_assert(sizeof(FrameUniforms) == 12 * 16 && offsetof(FrameUniforms, chunkShift) == 11 * 16);
-static_assert(sizeof(PathState) == 80 && offsetof(PathState, ids) == 64);
+static_assert(sizeof(PathState) == 96 && offsetof(PathState, previous) == 80);
+static_assert(sizeof(GpuLane) == 32 && sizeof(PathDerivative) == 32);
 static_assert(sizeof(HitRecord) == 16);
 static_assert(sizeof(ShadowRay) == 64 && offsetof(ShadowRay, info) == 48);
 }  // namespace vktg::gpu

@@ -52,9 +52,8 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
 
   const uint64_t filmElements = pixels * layers;
-  ChunkedBuffer film = allocateChunked(context, sizeof(float), filmElements, "film");
-  ChunkedBuffer filmSq = allocateChunked(context, sizeof(float), filmElements, "filmSq");
-  if (film.shift != filmSq.shift) throw Error("internal: film chunk layouts differ");
+  // Sums and sums of squares interleaved: two floats per film element.
+  ChunkedBuffer film = allocateChunked(context, sizeof(float), 2 * filmElements, "film");
   uint64_t filmBytes = 2 * filmElements * sizeof(float);
   if (filmBytes + gpuScene.bytes >= options.memoryBudget)
     throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the film (" +
@@ -86,7 +85,6 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   table.set(gpu::kBindingDispatchArgs, wave.dispatchArgs);
   table.set(gpu::kBindingPathAccum, wave.pathAccum);
   table.setChunks(gpu::kBindingFilm, film);
-  table.setChunks(gpu::kBindingFilmSq, filmSq);
   DescriptorSet set(context, pipelines.setLayout(), table, m_impl->dummy);
 
   SpecValues spec{};
@@ -134,8 +132,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     CommandBuffer init(context, "render init");
     init.begin();
     vkCmdFillBuffer(init.get(), wave.counters.handle(), 0, VK_WHOLE_SIZE, 0);
-    for (const ChunkedBuffer* f : {&film, &filmSq})
-      for (const Buffer& b : f->chunks) vkCmdFillBuffer(init.get(), b.handle(), 0, VK_WHOLE_SIZE, 0);
+    for (const Buffer& b : film.chunks) vkCmdFillBuffer(init.get(), b.handle(), 0, VK_WHOLE_SIZE, 0);
     init.end();
     context.submitAndWait(init.get());
   }
@@ -204,13 +201,16 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   stats.deviceBytes = gpuScene.bytes + wave.bytes() + filmBytes;
   result.passMilliseconds = profiler.millisecondsPerPass();
 
-  std::vector<float> mean(filmElements), variance(filmElements);
+  std::vector<float> resolved(2 * filmElements), mean(filmElements), variance(filmElements);
   size_t perChunk = size_t(1) << film.shift;
   for (size_t c = 0; c < film.chunks.size(); ++c) {
     size_t first = c * perChunk;
-    size_t count = std::min<size_t>(perChunk, filmElements - first);
-    film.chunks[c].download(context, mean.data() + first, count * sizeof(float));
-    filmSq.chunks[c].download(context, variance.data() + first, count * sizeof(float));
+    size_t count = std::min<size_t>(perChunk, 2 * filmElements - first);
+    film.chunks[c].download(context, resolved.data() + first, count * sizeof(float));
+  }
+  for (size_t i = 0; i < filmElements; ++i) {
+    mean[i] = resolved[2 * i];
+    variance[i] = resolved[2 * i + 1];
   }
   for (ImageSet* set : {&result.mean, &result.variance}) {
     set->width = width;

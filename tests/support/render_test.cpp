@@ -38,6 +38,11 @@ ZTestResult zTest(const std::vector<float>& a, const std::vector<float>& aVarian
   double perTest = 1.0 - std::pow(1.0 - alpha, 1.0 / double(std::max<size_t>(r.tested, 1)));
   r.threshold = twoSidedZ(perTest);
   for (size_t i = 0; i < a.size(); ++i) {
+    bool aBlind = a[i] == 0.0f && aVariance[i] == 0.0f, bBlind = b[i] == 0.0f && bVariance[i] == 0.0f;
+    if (aBlind != bBlind && (aBlind ? bVariance[i] : aVariance[i]) > 0.0f) {
+      r.untestable++;
+      continue;
+    }
     double variance = double(aVariance[i]) + double(bVariance[i]);
     double diff = double(a[i]) - double(b[i]);
     double z = variance > 0 ? std::abs(diff) / std::sqrt(variance) : (diff == 0 ? 0.0 : INFINITY);

@@ -16,8 +16,12 @@ RenderResult renderInTest(const Scene& scene, const RenderOptions& options = {})
 // may be all zeros for an exact reference). Returns the number of pixels whose |z| exceeds the
 // Sidak-corrected threshold for `alpha` over all pixels tested, and writes a description of the
 // worst pixel to `worst`. Pixels where both variances are zero must agree exactly.
+// A pixel where one side saw no light at all (mean 0 with variance 0) while the other did is
+// untestable: an all-zero sample mean has no variance estimate. Such pixels are skipped and
+// counted (`untestable`); the image-mean comparison still covers them.
 struct ZTestResult {
   size_t tested = 0;
+  size_t untestable = 0;
   size_t rejected = 0;
   double threshold = 0;
   std::string worst;

@@ -79,9 +79,14 @@ VKTG_CONST(uint, kBindingRayQueues, 16);     // uint[2 * batch]: two path-index 
 VKTG_CONST(uint, kBindingShadowQueue, 17);   // ShadowRay[kShadowRaysPerPath * batch]
 VKTG_CONST(uint, kBindingCounters, 18);      // uint[kCounterCount]
 VKTG_CONST(uint, kBindingDispatchArgs, 19);  // uint[3 * kArgsCount]
-VKTG_CONST(uint, kBindingPathAccum, 20);     // float[batch * bins * channels], per-path sums
-VKTG_CONST(uint, kBindingFilm, 21);          // float[bins * pixels * channels], chunks 21..24
-VKTG_CONST(uint, kBindingFilmSq, 25);        // same layout, sums of squares, chunks 25..28
+VKTG_CONST(uint, kBindingPathAccum, 20);     // float[(batch * layers + layer) * channels + channel], per-path sums
+// Film: element e = (channel * layers + layer) * pixels + pixel holds the sum of the samples at
+// float 2e and the sum of their squares at 2e + 1; chunks 21..24.
+VKTG_CONST(uint, kBindingFilm, 21);
+VKTG_CONST(uint, kBindingVertexVelocity, 25);  // vec4[lane * vertices + vertex]: dV/dθ of each lane
+VKTG_CONST(uint, kBindingLanes, 26);           // GpuLane[lanes]: what each derivative lane differentiates
+VKTG_CONST(uint, kBindingPathDerivs, 27);      // PathDerivative[path * lanes + lane]
+VKTG_CONST(uint, kBindingShadowDerivs, 28);    // vec2[shadow ray * lanes + lane]: d value, d length
 VKTG_CONST(uint, kBindingTestIn, 29);        // test kernels only
 VKTG_CONST(uint, kBindingTestOut, 30);       // test kernels only
 VKTG_CONST(uint, kBindingCount, 31);
@@ -96,7 +101,17 @@ VKTG_CONST(uint, kSpecNeeMode, 1);        // kNeeStandard / kNeeEllipsoidal / kN
 VKTG_CONST(uint, kSpecGateType, 2);       // kGate*
 VKTG_CONST(uint, kSpecCameraType, 3);     // kCamera*
 VKTG_CONST(uint, kSpecLightMask, 4);      // bit kLightAreaTriangle / kLightPoint present
-VKTG_CONST(uint, kSpecCount, 5);
+VKTG_CONST(uint, kSpecLanes, 5);          // derivative lanes K per path (derivative variants only)
+VKTG_CONST(uint, kSpecCount, 6);
+
+// What a derivative lane differentiates (GpuLane.info.x).
+VKTG_CONST(uint, kLaneGeometry, 0);       // vertex velocities (kBindingVertexVelocity) and/or a point light's velocity
+VKTG_CONST(uint, kLaneAlbedo, 1);         // info.y: material
+VKTG_CONST(uint, kLaneRoughness, 2);      // info.y: material
+VKTG_CONST(uint, kLaneIor, 3);            // info.y: material
+VKTG_CONST(uint, kLaneEmission, 4);       // info.y: shape
+VKTG_CONST(uint, kLaneIntensity, 5);      // info.y: index in the lights array
+VKTG_CONST(uint, kLaneGateCenter, 6);     // the whole gate shifts along L
 
 struct PassPush {
   uvec4 args;  // x: first pixel-sample index of the batch, y: first sample index, z: depth, w: pass-specific
@@ -160,6 +175,11 @@ struct FrameUniforms {
   uvec4 chunkShift;       // log2 of elements per chunk: x triangles, y BVH nodes, z film floats, w unused
 };
 
+struct GpuLane {
+  uvec4 info;           // x: kLane*, y: target index, z: 1 if the lane moves a point light, w: unused
+  vec4 lightVelocity;   // xyz: velocity of the point light info.y (geometry lanes)
+};
+
 // ---- Wavefront state ---------------------------------------------------------------------------
 struct PathState {
   vec4 position;    // xyz: current vertex (un-offset, exact); w: optical path length so far
@@ -168,6 +188,14 @@ struct PathState {
   vec4 misc;        // x: solid-angle pdf of the last BSDF sample (MIS); y: IOR of the medium the
                     // next segment travels in; z, w: unused
   uvec4 ids;        // x: pixel, y: sample index, z: depth (vertices after x0), w: flags
+  vec4 previous;    // xyz: the vertex before the current one; w: triangle of the current vertex
+                    // (uint bits; ~0 at the camera or sensor). Derivative passes read them.
+};
+
+// Derivative state of one path for one lane (forward mode, material form).
+struct PathDerivative {
+  vec4 positionThroughput;  // xyz: d(current vertex), w: d(throughput without its pending factor)
+  vec4 previousLength;      // xyz: d(previous vertex), w: d(path length)
 };
 
 struct HitRecord {
