@@ -11,6 +11,8 @@ function(vktg_embed_shaders target registry_name sources)
   set(entries "")
   foreach(src ${sources})
     get_filename_component(base ${src} NAME_WE)
+    # Variant lines are read at configure time: re-configure when a shader changes.
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${src})
     file(STRINGS ${src} variant_lines REGEX "^// vktg-variant: ")
     set(variants "${base}|")
     foreach(line ${variant_lines})

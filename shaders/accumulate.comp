@@ -4,7 +4,7 @@
 // per-pixel variance) to the film.
 // Reads: pathAccum, paths[].ids.x (pixel). Writes: film sums and sums of squares (atomic:
 // paths share pixels).
-// Dispatch: ceil(active paths * layers / kWorkgroupSize) groups.
+// Dispatch: ceil(active paths * layers * channels / kWorkgroupSize) groups.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 
@@ -12,11 +12,14 @@ layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
 
 void main() {
-  uint layers = frame.gateInfo.y;
+  // One invocation per (path, layer, channel); channel 0 is the image, 1..K derivative lanes.
+  uint layers = frame.gateInfo.y, channels = frame.pathInfo.z;
   uint i = gl_GlobalInvocationID.x;
-  if (i >= push.args.w * layers) return;
-  uint path = i / layers, layer = i % layers;
+  if (i >= push.args.w * layers * channels) return;
+  uint channel = i % channels;
+  uint pathLayer = i / channels;
+  uint path = pathLayer / layers, layer = pathLayer % layers;
   float value = pathAccum[i];
   uint pixels = frame.image.x * frame.image.y;
-  addToFilm(layer * pixels + paths[path].ids.x, value);
+  addToFilm((channel * layers + layer) * pixels + paths[path].ids.x, value);
 }

@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Pass generate_camera_rays: starts one path per (pixel, sample) of the batch.
+// vktg-variant: generate_camera_rays_d VKTG_DERIVATIVE=1
+// Pass generate_camera_rays (_d: also zeroes the path's derivative lanes): starts one path per (pixel, sample) of the batch.
 // Reads: frame (camera), push.args (x first pixel-sample index, w active paths).
 // Writes: paths[i], ray queue 0 (+ its counter); at a point sensor also the shadow queue (NEE
 // from the sensor itself: direct light and, in ellipsoidal mode, one-bounce connections).
@@ -23,6 +24,10 @@ void main() {
   Rng rng = rngCreate(pixel, sampleIndex, kRngDimCamera, frame.image.w);
   vec4 u = rngNext4(rng);
 
+#ifdef VKTG_DERIVATIVE
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane)
+    pathDerivs[i * kSpecLanesValue + lane] = PathDerivative(vec4(0.0), vec4(0.0));
+#endif
   PathState ps;
   ps.position = vec4(frame.cameraPosition.xyz, 0.0);
   ps.ids = uvec4(pixel, sampleIndex, 0u, 0u);
@@ -56,6 +61,11 @@ void main() {
     v.previousLen = 0.0;
     v.arrivalPdf = 0.0;
     v.triangle = 0xffffffffu;
+    v.path = i;
+    v.uv = vec2(0.0);
+    v.materialIndex = 0u;
+    v.rayForm = false;
+    v.arrivalDir = n;
     neeAtVertex(i, v, 0u, pixel, sampleIndex);
   }
   paths[i] = ps;

@@ -1,6 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Pass shade: one path vertex per queued ray. Adds emission of hit emitters (MIS-weighted),
+// vktg-variant: shade_d VKTG_DERIVATIVE=1
+// Pass shade (shade_d: the same with K derivative lanes, kSpecLanes): one path vertex per queued ray. Adds emission of hit emitters (MIS-weighted),
 // ends paths whose length passed the gate's support, queues next-event estimation (standard or
 // ellipsoidal), samples the BSDF, applies Russian roulette where the gate allows, and queues the
 // continuing path for the next depth.
@@ -33,6 +34,38 @@ void main() {
   float throughput = ps.normal.w;
 
   GpuShape shape = shapes[sp.shape];
+  uint triangle = floatBitsToUint(hit.tuvTriangle.w);
+  vec2 uv = hit.tuvTriangle.yz;
+#ifdef VKTG_DERIVATIVE
+  // Step the derivative state to this vertex: its position, the path length, and the factor
+  // f(x_{k-2}, x_{k-1}, x_k) G(x_{k-1}, x_k) J_k the BSDF sample at x_{k-1} left pending (its value
+  // is already in the throughput; the sample's density is a constant).
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
+    uint slot = path * kSpecLanesValue + lane;
+    PathDerivative pd = pathDerivs[slot];
+    Dual3 previous = dual3(ps.position.xyz, pd.positionThroughput.xyz);
+    VertexDual x = depth == 1u ? rayVertexDual(triangle, uv, ps.direction.xyz, lane)
+                               : surfaceVertexDual(triangle, uv, lane);
+    DualSegment seg = dualSegment(previous, x.position);
+    float dThroughput = pd.positionThroughput.w;
+    if (depth >= 2u) {
+      uint previousTriangle = floatBitsToUint(ps.previous.w);
+      Dual3 p0, p1, p2;
+      triangleDual(previousTriangle, lane, p0, p1, p2);
+      Dual3 previousNormal = triangleNormalDual(p0, p1, p2);
+      Dual3 beforePrevious = dual3(ps.previous.xyz, pd.previousLength.xyz);
+      Dual3 wi = dualSegment(previous, beforePrevious).dir;
+      uint previousShape = floatBitsToUint(loadTriangle(previousTriangle).p0.w);
+      Dual f = bsdfOfMaterialDual(shapes[previousShape].material, previousNormal, wi, seg.dir, lane);
+      float dLog = dLogOf(f) + dLogOf(dAbsCos(previousNormal, seg.dir)) + dLogOf(dAbsCos(x.normal, seg.dir)) -
+                   2.0 * dLogOf(seg.len) + dLogOf(x.jacobian);
+      dThroughput += throughput * dLog;
+    }
+    pd.positionThroughput = vec4(x.position.d, dThroughput);
+    pd.previousLength = vec4(previous.d, pd.previousLength.w + seg.len.d * ps.misc.y);
+    pathDerivs[slot] = pd;
+  }
+#endif
   if (shape.emission > 0.0 && dot(sp.normal, wi) > 0.0 && emitterHitCounts(depth)) {
     // MIS against the standard NEE of the previous vertex, when that vertex did one (the
     // pinhole never does; the point sensor does).
@@ -44,7 +77,15 @@ void main() {
       float pdfLight = areaLightPdf(shape.emission) * dist * dist / dot(sp.normal, wi);
       mis = powerHeuristic(ps.misc.x, pdfLight);
     }
-    addContribution(path, throughput * shape.emission * mis, len);
+    float value = throughput * shape.emission * mis;
+    addContribution(path, value, len);
+#ifdef VKTG_DERIVATIVE
+    for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
+      PathDerivative pd = pathDerivs[path * kSpecLanesValue + lane];
+      float dLog = pd.positionThroughput.w / throughput + laneRate(lane, kLaneEmission, sp.shape) / shape.emission;
+      addContributionDerivative(path, lane, value, value * dLog, len, pd.previousLength.w);
+    }
+#endif
   }
 
   // Nothing can reach the gate any more: every extension only makes the path longer.
@@ -64,7 +105,12 @@ void main() {
   v.previousPosition = ps.position.xyz;
   v.previousLen = ps.position.w;
   v.arrivalPdf = ps.misc.x;
-  v.triangle = floatBitsToUint(hit.tuvTriangle.w);
+  v.triangle = triangle;
+  v.path = path;
+  v.uv = uv;
+  v.materialIndex = shape.material;
+  v.rayForm = depth == 1u;
+  v.arrivalDir = ps.direction.xyz;
   neeAtVertex(path, v, depth, pixel, sampleIndex);
 
   // gateInfo.w (max depth) is the most segments a path may have: NEE here made depth + 1.
@@ -89,6 +135,12 @@ void main() {
     }
     throughput /= survive;
   }
+#ifdef VKTG_DERIVATIVE
+  // The new segment's factor stays pending until the next vertex is known; its value (the
+  // sample weight) scales what is already differentiated.
+  float scale = throughput / ps.normal.w;
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane) pathDerivs[path * kSpecLanesValue + lane].positionThroughput.w *= scale;
+#endif
 
   float ior = ps.misc.y;
   if (bs.transmitted) ior = dot(sp.normal, bs.wo) < 0.0 ? v.material.ior : 1.0;

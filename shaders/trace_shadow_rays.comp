@@ -1,12 +1,16 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Pass trace_shadow_rays: visibility of every queued connection (one or two segments); adds the
+// vktg-variant: trace_shadow_rays_d VKTG_DERIVATIVE=1
+// Pass trace_shadow_rays (_d: also adds the connection's derivative lanes): visibility of every queued connection (one or two segments); adds the
 // value of the unoccluded ones to their path's accumulator at the connection's path length.
 // Reads: shadow queue, scene BVH. Writes: pathAccum. Dispatch: indirect (shadow queue size).
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/bvh.glsl"
 #include "lib/path.glsl"
+#ifdef VKTG_DERIVATIVE
+#include "lib/path_derivative.glsl"
+#endif
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
@@ -26,4 +30,10 @@ void main() {
   if (!segmentVisible(r.p0Value.xyz, r.p1Length.xyz)) return;
   if (r.info.y == 2u && !segmentVisible(r.p1Length.xyz, r.p2.xyz)) return;
   addContribution(r.info.x, r.p0Value.w, r.p1Length.w);
+#ifdef VKTG_DERIVATIVE
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
+    vec2 d = shadowDerivs[index * kSpecLanesValue + lane];
+    addContributionDerivative(r.info.x, lane, r.p0Value.w, d.x, r.p1Length.w, d.y);
+  }
+#endif
 }

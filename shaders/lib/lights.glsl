@@ -11,6 +11,9 @@ struct LightSample {
   float emission;  // area: radiance Le; point: intensity I
   float pdf;       // area: density per unit area including selection; point: selection probability
   bool isPoint;
+  uint index;        // entry of the lights array
+  uint triangle;     // area lights: the triangle (BVH order)
+  vec2 barycentrics; // area lights: the material point (derivative passes move it with its triangle)
 };
 
 uint selectLight(float u) {
@@ -27,17 +30,22 @@ vec3 triangleNormal(GpuTriangle t) {
 }
 
 bool sampleLight(vec3 u, out LightSample ls) {
-  GpuLight light = lights[selectLight(u.x)];
+  ls.index = selectLight(u.x);
+  GpuLight light = lights[ls.index];
   ls.isPoint = sceneHasLightType(kLightPoint) && light.type == kLightPoint;
   if (ls.isPoint) {
     ls.position = light.positionIntensity.xyz;
     ls.normal = vec3(0.0);
     ls.emission = light.positionIntensity.w;
     ls.pdf = light.pmf;
+    ls.triangle = 0xffffffffu;
+    ls.barycentrics = vec2(0.0);
     return ls.pdf > 0.0;
   }
   GpuTriangle t = loadTriangle(light.triangle);
   vec2 b = sampleTriangleBarycentrics(u.yz);
+  ls.triangle = light.triangle;
+  ls.barycentrics = b;
   ls.position = (1.0 - b.x - b.y) * t.p0.xyz + b.x * t.p1.xyz + b.y * t.p2.xyz;
   ls.normal = triangleNormal(t);
   ls.emission = shapes[floatBitsToUint(t.p0.w)].emission;

@@ -25,7 +25,78 @@ struct NeeVertex {
   float previousLen;
   float arrivalPdf;
   uint triangle;
+  // For the derivative lanes: the path, the material point of this vertex, the material, and
+  // whether it is the first hit (kept on its camera ray, arrivalDir).
+  uint path;
+  vec2 uv;
+  uint materialIndex;
+  bool rayForm;
+  vec3 arrivalDir;
 };
+
+#ifdef VKTG_DERIVATIVE
+#include "lib/path_derivative.glsl"
+
+VertexDual neeVertexDual(NeeVertex v, uint lane) {
+  if (v.isSensor) {
+    VertexDual s;
+    s.position = dual3(v.position);
+    s.normal = dual3(v.normal);
+    s.jacobian = dual(1.0);
+    return s;
+  }
+  return v.rayForm ? rayVertexDual(v.triangle, v.uv, v.arrivalDir, lane) : surfaceVertexDual(v.triangle, v.uv, lane);
+}
+
+// f at the NEE vertex toward `wo` for one lane (the sensor's importance is constant).
+Dual neeVertexBsdfDual(NeeVertex v, VertexDual x, PathDerivative pd, Dual3 wo, uint lane) {
+  if (v.isSensor) return dual(1.0);
+  Dual3 previous = dual3(v.previousPosition, pd.previousLength.xyz);
+  Dual3 wi = dualSegment(x.position, previous).dir;
+  return bsdfOfMaterialDual(v.materialIndex, x.normal, wi, wo, lane);
+}
+
+// d(log) of the light's side of a connection ending at y over segment `seg` (geometry at y,
+// Jacobian, emission).
+float lightEndDLog(LightSample ls, LightDual y, DualSegment seg) {
+  float d = dLogOf(y.emission) - 2.0 * dLogOf(seg.len);
+  if (!ls.isPoint) d += dLogOf(dAbs(dDot(y.normal, seg.dir))) + dLogOf(y.jacobian);
+  return d;
+}
+
+void standardNeeDerivatives(uint slot, NeeVertex v, LightSample ls, float value) {
+  if (slot == 0xffffffffu) return;
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
+    PathDerivative pd = pathDerivs[v.path * kSpecLanesValue + lane];
+    VertexDual x = neeVertexDual(v, lane);
+    LightDual y = lightDual(ls, lane);
+    DualSegment seg = dualSegment(x.position, y.position);
+    Dual f = neeVertexBsdfDual(v, x, pd, seg.dir, lane);
+    float dLog = pd.positionThroughput.w / v.throughput + dLogOf(f) + dLogOf(dAbsCos(x.normal, seg.dir)) +
+                 lightEndDLog(ls, y, seg);
+    storeShadowDerivative(slot, lane, value * dLog, pd.previousLength.w + seg.len.d);
+  }
+}
+
+void ellipsoidalNeeDerivatives(uint slot, NeeVertex v, LightSample ls, EllipsoidSample es, uint shapeK, float value) {
+  if (slot == 0xffffffffu) return;
+  uint materialK = shapes[shapeK].material;
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
+    PathDerivative pd = pathDerivs[v.path * kSpecLanesValue + lane];
+    VertexDual x = neeVertexDual(v, lane);
+    VertexDual e = surfaceVertexDual(es.triangle, es.barycentrics, lane);
+    LightDual y = lightDual(ls, lane);
+    DualSegment s1 = dualSegment(x.position, e.position);
+    DualSegment s2 = dualSegment(e.position, y.position);
+    Dual f1 = neeVertexBsdfDual(v, x, pd, s1.dir, lane);
+    Dual f2 = bsdfOfMaterialDual(materialK, e.normal, dNeg(s1.dir), s2.dir, lane);
+    float dLog = pd.positionThroughput.w / v.throughput + dLogOf(f1) + dLogOf(dAbsCos(x.normal, s1.dir)) +
+                 dLogOf(dAbsCos(e.normal, s1.dir)) - 2.0 * dLogOf(s1.len) + dLogOf(e.jacobian) + dLogOf(f2) +
+                 dLogOf(dAbsCos(e.normal, s2.dir)) + lightEndDLog(ls, y, s2);
+    storeShadowDerivative(slot, lane, value * dLog, pd.previousLength.w + s1.len.d + s2.len.d);
+  }
+}
+#endif
 
 float vertexEval(NeeVertex v, vec3 wo) {
   return v.isSensor ? (dot(v.normal, wo) > 0.0 ? 1.0 : 0.0) : bsdfEval(v.material, v.normal, v.wi, wo);
@@ -79,7 +150,10 @@ void standardNee(uint path, NeeVertex v, uint depth, vec3 u) {
     float pEll = areaPdfEllipsoidal(v.previousPosition, v.previousLen, ls.position, len, v.triangle, v.position);
     value *= powerHeuristic(pBsdf, pEll);
   }
-  queueShadowRay(path, v.position, ls.position, vec3(0.0), 1u, value, len);
+  uint slot = queueShadowRay(path, v.position, ls.position, vec3(0.0), 1u, value, len);
+#ifdef VKTG_DERIVATIVE
+  standardNeeDerivatives(slot, v, ls, value);
+#endif
 }
 
 void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllipsoid) {
@@ -121,7 +195,10 @@ void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllip
     float pEll = 1.0 / (invPdfS * es.weight);
     value *= powerHeuristic(pEll, pBsdf);
   }
-  queueShadowRay(path, v.position, xk.position, ls.position, 2u, value, s);
+  uint slot = queueShadowRay(path, v.position, xk.position, ls.position, 2u, value, s);
+#ifdef VKTG_DERIVATIVE
+  ellipsoidalNeeDerivatives(slot, v, ls, es, xk.shape, value);
+#endif
 }
 
 // Which estimator covers which paths (pathInfo.y = e, the first vertex that can start an

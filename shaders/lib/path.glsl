@@ -23,15 +23,16 @@ void addContribution(uint path, float value, float len) {
   if (value == 0.0) return;
   uint first, count;
   gateLayers(len, first, count);
-  uint layers = frame.gateInfo.y;
+  uint layers = frame.gateInfo.y, channels = frame.pathInfo.z;
   for (uint k = first; k < first + count; ++k) {
     float w = gateWeight(len, k);
-    if (w != 0.0) atomicAdd(pathAccum[path * layers + k], w * value);
+    if (w != 0.0) atomicAdd(pathAccum[(path * layers + k) * channels], w * value);
   }
 }
 
-void queueShadowRay(uint path, vec3 p0, vec3 p1, vec3 p2, uint segments, float value, float len) {
-  if (value == 0.0) return;
+// Queues a connection; returns its slot (~0 when the value is zero and nothing was queued).
+uint queueShadowRay(uint path, vec3 p0, vec3 p1, vec3 p2, uint segments, float value, float len) {
+  if (value == 0.0) return 0xffffffffu;
   uint slot = atomicAdd(counters[kCounterShadow], 1u);
   ShadowRay r;
   r.p0Value = vec4(p0, value);
@@ -39,6 +40,7 @@ void queueShadowRay(uint path, vec3 p0, vec3 p1, vec3 p2, uint segments, float v
   r.p2 = vec4(p2, 0.0);
   r.info = uvec4(path, segments, 0u, 0u);
   shadowRays[slot] = r;
+  return slot;
 }
 
 // Point, geometric normal and shape of a hit, from its barycentrics (the exact surface point:

@@ -7,6 +7,7 @@ layout(constant_id = 1) const uint kSpecNeeModeValue = 0u;
 layout(constant_id = 2) const uint kSpecGateTypeValue = 0u;
 layout(constant_id = 3) const uint kSpecCameraTypeValue = 0u;
 layout(constant_id = 4) const uint kSpecLightMaskValue = 3u;
+layout(constant_id = 5) const uint kSpecLanesValue = 1u;  // derivative lanes (derivative variants)
 
 bool sceneHasLightType(uint type) { return (kSpecLightMaskValue & (1u << type)) != 0u; }
 bool sceneHasMaterial(uint type) { return (kSpecMaterialMaskValue & (1u << type)) != 0u; }

@@ -261,6 +261,26 @@ void writeBenchRenderReport(const BenchRenderReport& report, const BenchRenderOp
   md << "Command: `" << command << "`  \nDevice: " << report.device << "  \n"
      << "Medians of " << options.runs << " runs per point (different seeds). relMSE against the exact response "
      << "(confocal) or a cached high-sample render (cornell).\n\n";
+  // Efficiency = relMSE x time (lower is better; constant along a curve for an unbiased
+  // estimator once its variance dominates). Summary: the median over each curve, and the ratio.
+  md << "Summary (median of relMSE x time over each curve; speed-up = standard / ellipsoidal):\n\n"
+        "| scene | gate | standard | ellipsoidal | speed-up of ellipsoidal |\n|---|---|---|---|---|\n";
+  std::vector<std::pair<std::string, std::string>> cases;
+  for (const auto& p : report.points)
+    if (std::find(cases.begin(), cases.end(), std::make_pair(p.scene, p.gate)) == cases.end())
+      cases.emplace_back(p.scene, p.gate);
+  for (const auto& [scene, gate] : cases) {
+    std::vector<double> standard, ellipsoidal;
+    for (const auto& p : report.points)
+      if (p.scene == scene && p.gate == gate)
+        (p.estimator == std::string("standard") ? standard : ellipsoidal).push_back(p.relMse * p.seconds);
+    if (standard.empty() || ellipsoidal.empty()) continue;
+    double s = median(standard), e = median(ellipsoidal);
+    char line[256];
+    std::snprintf(line, sizeof line, "| %s | %s | %.3e | %.3e | %.3gx |\n", scene.c_str(), gate.c_str(), s, e, s / e);
+    md << line;
+  }
+  md << "\nAll points:\n\n";
   md << "| scene | gate | estimator | spp | time (s) | relMSE | relMSE x time | paths/s | rays/s |\n"
         "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& p : report.points) {

@@ -1,6 +1,7 @@
 #include "host/frame_uniforms.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -37,7 +38,8 @@ gpu::FrameUniforms sceneFrameUniforms(const Scene& scene, const PreparedScene& p
   float diagonal = sceneDiagonal(prepared);
   // Offsets must exceed float rounding at the scene's coordinates (ulp ~ 6e-8 of the magnitude).
   float magnitude = std::max({glm::length(prepared.boundsMin), glm::length(prepared.boundsMax), diagonal});
-  f.sceneInfo = glm::vec4(2e-5f * magnitude, diagonal, prepared.totalLightPower, 0.0f);
+  f.sceneInfo = glm::vec4(2e-5f * magnitude, diagonal, prepared.totalLightPower,
+                         std::bit_cast<float>(uint32_t(prepared.vertices.size())));
   f.chunkShift = glm::uvec4(gpuScene.triangles.shift, gpuScene.bvhNodes.shift, 31, 0);
   f.pathInfo = glm::uvec4(scene.render.rouletteDepth, 0, 1, 0);
   f.gateInfo = glm::uvec4(0, 1, 0, scene.render.maxDepth);

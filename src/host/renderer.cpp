@@ -20,6 +20,33 @@ void pushArgs(VkCommandBuffer cmd, VkPipelineLayout layout, uint32_t x, uint32_t
 
 uint32_t groupsFor(uint64_t items) { return uint32_t((items + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize); }
 
+// What each derivative lane differentiates, in GPU terms.
+std::vector<gpu::GpuLane> laneTable(const std::vector<ParameterBinding>& bindings, const PreparedScene& prepared,
+                                    const Scene& scene) {
+  uint32_t firstPointLight = uint32_t(prepared.lights.size() - scene.pointLights.size());
+  std::vector<gpu::GpuLane> lanes;
+  for (const ParameterBinding& b : bindings) {
+    gpu::GpuLane lane{};
+    switch (b.kind) {
+      case ParameterKind::Translate:
+      case ParameterKind::Rotate:
+      case ParameterKind::Displace: lane.info = glm::uvec4(gpu::kLaneGeometry, 0, 0, 0); break;
+      case ParameterKind::LightPosition:
+        lane.info = glm::uvec4(gpu::kLaneGeometry, firstPointLight + b.target, 1, 0);
+        lane.lightVelocity = glm::vec4(b.lightVelocity, 0.0f);
+        break;
+      case ParameterKind::Emission: lane.info = glm::uvec4(gpu::kLaneEmission, b.target, 0, 0); break;
+      case ParameterKind::Intensity: lane.info = glm::uvec4(gpu::kLaneIntensity, firstPointLight + b.target, 0, 0); break;
+      case ParameterKind::Albedo: lane.info = glm::uvec4(gpu::kLaneAlbedo, b.target, 0, 0); break;
+      case ParameterKind::Roughness: lane.info = glm::uvec4(gpu::kLaneRoughness, b.target, 0, 0); break;
+      case ParameterKind::Ior: lane.info = glm::uvec4(gpu::kLaneIor, b.target, 0, 0); break;
+      case ParameterKind::GateCenter: lane.info = glm::uvec4(gpu::kLaneGateCenter, 0, 0, 0); break;
+    }
+    lanes.push_back(lane);
+  }
+  return lanes;
+}
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -44,6 +71,9 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   GpuScene gpuScene(context, prepared);
 
   const uint32_t layers = plan.layers;
+  const uint32_t lanes = uint32_t(options.derivativeLanes.size());
+  const uint32_t channels = 1 + lanes;
+  if (lanes > kMaxDerivativeLanes) throw Error("internal: more derivative lanes than kMaxDerivativeLanes");
   const uint32_t width = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.width;
   const uint32_t height = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.height;
   const uint64_t pixels = uint64_t(width) * height;
@@ -51,7 +81,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   if (pixels * scene.render.spp > (uint64_t(1) << 32) * 8)
     throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
 
-  const uint64_t filmElements = pixels * layers;
+  const uint64_t filmElements = pixels * layers * channels;
   // Sums and sums of squares interleaved: two floats per film element.
   ChunkedBuffer film = allocateChunked(context, sizeof(float), 2 * filmElements, "film");
   uint64_t filmBytes = 2 * filmElements * sizeof(float);
@@ -60,16 +90,28 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
                 std::to_string(filmBytes >> 20) + " MiB) and the scene (" + std::to_string(gpuScene.bytes >> 20) +
                 " MiB); raise it");
   const uint32_t batchSize =
-      batchSizeFor(options.memoryBudget - filmBytes - gpuScene.bytes, layers, context.properties().limits.maxStorageBufferRange,
-                   totalPaths, context.properties().limits.maxComputeWorkGroupCount[0]);
-  WavefrontBuffers wave(context, batchSize, layers);
+      batchSizeFor(options.memoryBudget - filmBytes - gpuScene.bytes, layers, lanes,
+                   context.properties().limits.maxStorageBufferRange, totalPaths,
+                   context.properties().limits.maxComputeWorkGroupCount[0]);
+  WavefrontBuffers wave(context, batchSize, layers, lanes);
+  // Derivative inputs: per-lane vertex velocities and what each lane differentiates.
+  std::vector<glm::vec4> velocities(std::max<size_t>(1, size_t(lanes) * prepared.vertices.size()), glm::vec4(0.0f));
+  for (uint32_t k = 0; k < lanes; ++k)
+    for (size_t v = 0; v < options.derivativeLanes[k].vertexVelocity.size(); ++v)
+      velocities[k * prepared.vertices.size() + v] = glm::vec4(options.derivativeLanes[k].vertexVelocity[v], 0.0f);
+  Buffer velocityBuffer(context, velocities.size() * sizeof(glm::vec4), MemoryKind::Device, "derivative.vertexVelocity");
+  velocityBuffer.upload(context, velocities.data(), velocities.size() * sizeof(glm::vec4));
+  std::vector<gpu::GpuLane> laneInfo = laneTable(options.derivativeLanes, prepared, scene);
+  if (laneInfo.empty()) laneInfo.emplace_back();
+  Buffer laneBuffer(context, laneInfo.size() * sizeof(gpu::GpuLane), MemoryKind::Device, "derivative.lanes");
+  laneBuffer.upload(context, laneInfo.data(), laneInfo.size() * sizeof(gpu::GpuLane));
 
   gpu::FrameUniforms frame = sceneFrameUniforms(scene, prepared, gpuScene);
   setGateUniforms(frame, scene.gate, options.gateCutoff);
   frame.gateInfo.z = plan.nee == NeeMode::Ellipsoidal ? gpu::kNeeEllipsoidal
                      : plan.nee == NeeMode::Mis     ? gpu::kNeeMis
                                                     : gpu::kNeeStandard;
-  frame.pathInfo = glm::uvec4(scene.render.rouletteDepth, plan.firstEllipsoidVertex, 1, batchSize);
+  frame.pathInfo = glm::uvec4(scene.render.rouletteDepth, plan.firstEllipsoidVertex, channels, batchSize);
   frame.chunkShift.z = film.shift;
   Buffer frameBuffer(context, sizeof frame, MemoryKind::Device, "frame");
   frameBuffer.upload(context, &frame, sizeof frame);
@@ -85,6 +127,10 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   table.set(gpu::kBindingDispatchArgs, wave.dispatchArgs);
   table.set(gpu::kBindingPathAccum, wave.pathAccum);
   table.setChunks(gpu::kBindingFilm, film);
+  table.set(gpu::kBindingVertexVelocity, velocityBuffer);
+  table.set(gpu::kBindingLanes, laneBuffer);
+  table.set(gpu::kBindingPathDerivs, wave.pathDerivs);
+  table.set(gpu::kBindingShadowDerivs, wave.shadowDerivs);
   DescriptorSet set(context, pipelines.setLayout(), table, m_impl->dummy);
 
   SpecValues spec{};
@@ -93,10 +139,13 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   spec[gpu::kSpecGateType] = uint32_t(scene.gate.type);
   spec[gpu::kSpecCameraType] = uint32_t(scene.camera.type);
   spec[gpu::kSpecLightMask] = prepared.lightMask;
-  VkPipeline generate = pipelines.get("generate_camera_rays", spec);
+  spec[gpu::kSpecLanes] = std::max(lanes, 1u);
+  // The derivative variants carry the lanes; passes without derivative work are shared.
+  const std::string variant = lanes > 0 ? "_d" : "";
+  VkPipeline generate = pipelines.get("generate_camera_rays" + variant, spec);
   VkPipeline intersect = pipelines.get("intersect_closest", spec);
-  VkPipeline shade = pipelines.get("shade", spec);
-  VkPipeline shadow = pipelines.get("trace_shadow_rays", spec);
+  VkPipeline shade = pipelines.get("shade" + variant, spec);
+  VkPipeline shadow = pipelines.get("trace_shadow_rays" + variant, spec);
   VkPipeline setArgs = pipelines.get("set_dispatch_args", spec);
   VkPipeline accumulate = pipelines.get("accumulate", spec);
   VkPipeline resolve = pipelines.get("resolve", spec);
@@ -150,7 +199,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     vkCmdFillBuffer(cmd, wave.pathAccum.handle(), 0, VK_WHOLE_SIZE, 0);
     computeBarrier(cmd);
     pushArgs(cmd, layout, firstLinear, firstSample, 0, active);
-    dispatch("generate_camera_rays", generate, groupsFor(active));
+    dispatch(lanes ? "generate_camera_rays_d" : "generate_camera_rays", generate, groupsFor(active));
     for (uint32_t depth = 0; depth < maxDepth; ++depth) {
       uint32_t parity = depth & 1u;
       pushArgs(cmd, layout, gpu::kCounterRays0 + parity, gpu::kArgsRays, gpu::kCounterExtensionRays, 0);
@@ -158,14 +207,14 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
       pushArgs(cmd, layout, 0, 0, depth, 0);
       dispatchIndirect("intersect_closest", intersect, gpu::kArgsRays);
       zeroCounter(gpu::kCounterRays0 + (parity ^ 1u));
-      dispatchIndirect("shade", shade, gpu::kArgsRays);
+      dispatchIndirect(lanes ? "shade_d" : "shade", shade, gpu::kArgsRays);
       pushArgs(cmd, layout, gpu::kCounterShadow, gpu::kArgsShadow, gpu::kCounterShadowRays, 0);
       dispatch("set_dispatch_args", setArgs, 1);
-      dispatchIndirect("trace_shadow_rays", shadow, gpu::kArgsShadow);
+      dispatchIndirect(lanes ? "trace_shadow_rays_d" : "trace_shadow_rays", shadow, gpu::kArgsShadow);
       zeroCounter(gpu::kCounterShadow);
     }
     pushArgs(cmd, layout, 0, 0, 0, active);
-    dispatch("accumulate", accumulate, groupsFor(uint64_t(active) * layers));
+    dispatch("accumulate", accumulate, groupsFor(uint64_t(active) * layers * frame.pathInfo.z));
     cmdBuffer.end();
     context.submitAndWait(cmd);
     profiler.collect();
@@ -216,11 +265,23 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     set->width = width;
     set->height = height;
   }
-  for (uint32_t k = 0; k < layers; ++k) {
-    std::string name = scene.gate.layerName(k);
-    result.mean.layers.push_back({name, std::vector<float>(mean.begin() + k * pixels, mean.begin() + (k + 1) * pixels)});
-    result.variance.layers.push_back(
-        {name, std::vector<float>(variance.begin() + k * pixels, variance.begin() + (k + 1) * pixels)});
+  // Film element (channel * layers + layer) * pixels + pixel: channel 0 the image, then the lanes.
+  auto layerOf = [&](const std::vector<float>& data, uint32_t channel, uint32_t layer) {
+    auto first = data.begin() + (uint64_t(channel) * layers + layer) * pixels;
+    return std::vector<float>(first, first + pixels);
+  };
+  result.derivatives.resize(lanes);
+  result.derivativeVariances.resize(lanes);
+  for (uint32_t c = 0; c < channels; ++c) {
+    ImageSet& m = c == 0 ? result.mean : result.derivatives[c - 1];
+    ImageSet& v = c == 0 ? result.variance : result.derivativeVariances[c - 1];
+    m.width = v.width = width;
+    m.height = v.height = height;
+    for (uint32_t k = 0; k < layers; ++k) {
+      std::string name = scene.gate.layerName(k);
+      m.layers.push_back({name, layerOf(mean, c, k)});
+      v.layers.push_back({name, layerOf(variance, c, k)});
+    }
   }
   return result;
 }

@@ -10,6 +10,7 @@
 #include "host/planner.h"
 #include "host/vk_context.h"
 #include "vktg/image_io.h"
+#include "vktg/parameters.h"
 #include "vktg/scene.h"
 
 namespace vktg {
@@ -19,7 +20,12 @@ struct RenderOptions {
   uint64_t memoryBudget = 512ull << 20;     // bytes for wavefront state + film (`--mem`)
   bool gateCutoff = true;                   // end paths whose length passed the gate (bench compares)
   std::function<void(double)> progress;     // fraction done, after every batch
+  // Non-empty: the derivative variants of the passes also compute d image / d θ for these
+  // parameters (the interior term, forward mode), at most kMaxDerivativeLanes at once.
+  std::vector<ParameterBinding> derivativeLanes;
 };
+
+inline constexpr uint32_t kMaxDerivativeLanes = 4;
 
 struct RenderStats {
   uint64_t paths = 0;
@@ -35,6 +41,9 @@ struct RenderStats {
 struct RenderResult {
   ImageSet mean;      // one layer per gate layer
   ImageSet variance;  // variance of each pixel's mean (its squared standard error)
+  // Per derivative lane (RenderOptions::derivativeLanes): d mean / d θ and its variance.
+  std::vector<ImageSet> derivatives;
+  std::vector<ImageSet> derivativeVariances;
   RenderStats stats;
   RenderPlan plan;
   std::map<std::string, double> passMilliseconds;

@@ -7,28 +7,31 @@
 
 namespace vktg {
 
-uint64_t wavefrontBytesPerPath(uint32_t layers) {
+uint64_t wavefrontBytesPerPath(uint32_t layers, uint32_t lanes) {
   return sizeof(gpu::PathState) + sizeof(gpu::HitRecord) + 2 * sizeof(uint32_t) +
-         gpu::kShadowRaysPerPath * sizeof(gpu::ShadowRay) + uint64_t(layers) * sizeof(float);
+         gpu::kShadowRaysPerPath * sizeof(gpu::ShadowRay) + uint64_t(layers) * (1 + lanes) * sizeof(float) +
+         uint64_t(lanes) * (sizeof(gpu::PathDerivative) + gpu::kShadowRaysPerPath * 2 * sizeof(float));
 }
 
-uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint64_t maxBufferRange, uint64_t maxPaths,
-                      uint32_t maxGroups) {
-  uint64_t batch = budgetBytes / wavefrontBytesPerPath(layers);
+uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint32_t lanes, uint64_t maxBufferRange,
+                      uint64_t maxPaths, uint32_t maxGroups) {
+  uint64_t batch = budgetBytes / wavefrontBytesPerPath(layers, lanes);
   // Every per-path buffer must be bindable as one storage buffer.
-  uint64_t largestPerPath = std::max<uint64_t>(gpu::kShadowRaysPerPath * sizeof(gpu::ShadowRay), uint64_t(layers) * 4);
+  uint64_t largestPerPath = std::max<uint64_t>({gpu::kShadowRaysPerPath * sizeof(gpu::ShadowRay),
+                                                uint64_t(layers) * (1 + lanes) * 4,
+                                                uint64_t(lanes) * sizeof(gpu::PathDerivative)});
   batch = std::min(batch, maxBufferRange / largestPerPath);
-  batch = std::min<uint64_t>(batch, uint64_t(maxGroups) * gpu::kWorkgroupSize / std::max(layers, 1u));
+  batch = std::min<uint64_t>(batch, uint64_t(maxGroups) * gpu::kWorkgroupSize / (std::max(layers, 1u) * (1 + lanes)));
   batch = std::min<uint64_t>(batch, 1u << 22);
   if (batch < gpu::kWorkgroupSize)
     throw Error("--mem: the memory budget holds fewer than " + std::to_string(gpu::kWorkgroupSize) +
-                " paths of wavefront state (" + std::to_string(wavefrontBytesPerPath(layers)) + " bytes each); raise it");
+                " paths of wavefront state (" + std::to_string(wavefrontBytesPerPath(layers, lanes)) + " bytes each); raise it");
   uint64_t rounded = std::max<uint64_t>(gpu::kWorkgroupSize, (std::min(batch, std::max<uint64_t>(maxPaths, 1)) +
                                                              gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize * gpu::kWorkgroupSize);
   return uint32_t(std::min(rounded, batch / gpu::kWorkgroupSize * gpu::kWorkgroupSize));
 }
 
-WavefrontBuffers::WavefrontBuffers(const VulkanContext& context, uint32_t batchSize, uint32_t layers)
+WavefrontBuffers::WavefrontBuffers(const VulkanContext& context, uint32_t batchSize, uint32_t layers, uint32_t lanes)
     : paths(context, uint64_t(batchSize) * sizeof(gpu::PathState), MemoryKind::Device, "wavefront.paths"),
       hits(context, uint64_t(batchSize) * sizeof(gpu::HitRecord), MemoryKind::Device, "wavefront.hits"),
       rayQueues(context, 2ull * batchSize * sizeof(uint32_t), MemoryKind::Device, "wavefront.rayQueues"),
@@ -36,11 +39,17 @@ WavefrontBuffers::WavefrontBuffers(const VulkanContext& context, uint32_t batchS
                   "wavefront.shadowQueue"),
       counters(context, gpu::kCounterCount * sizeof(uint32_t), MemoryKind::Device, "wavefront.counters"),
       dispatchArgs(context, 3 * gpu::kArgsCount * sizeof(uint32_t), MemoryKind::Device, "wavefront.dispatchArgs"),
-      pathAccum(context, uint64_t(batchSize) * layers * sizeof(float), MemoryKind::Device, "wavefront.pathAccum") {}
+      pathAccum(context, uint64_t(batchSize) * layers * (1 + lanes) * sizeof(float), MemoryKind::Device,
+                "wavefront.pathAccum"),
+      pathDerivs(context, std::max<uint64_t>(16, uint64_t(batchSize) * lanes * sizeof(gpu::PathDerivative)),
+                 MemoryKind::Device, "wavefront.pathDerivs"),
+      shadowDerivs(context, std::max<uint64_t>(16, uint64_t(gpu::kShadowRaysPerPath) * batchSize * lanes * 2 * sizeof(float)),
+                   MemoryKind::Device, "wavefront.shadowDerivs") {}
 
 uint64_t WavefrontBuffers::bytes() const {
   uint64_t total = 0;
-  for (const Buffer* b : {&paths, &hits, &rayQueues, &shadowQueue, &counters, &dispatchArgs, &pathAccum})
+  for (const Buffer* b : {&paths, &hits, &rayQueues, &shadowQueue, &counters, &dispatchArgs, &pathAccum, &pathDerivs,
+                          &shadowDerivs})
     total += b->size();
   return total;
 }

@@ -8,18 +8,19 @@
 namespace vktg {
 
 // Bytes of wavefront state per path for `layers` gate layers.
-uint64_t wavefrontBytesPerPath(uint32_t layers);
+uint64_t wavefrontBytesPerPath(uint32_t layers, uint32_t lanes);
 
 // Largest batch within `budgetBytes` whose every buffer stays under `maxBufferRange`, clamped
 // to [kWorkgroupSize, maxPaths]. Throws vktg::Error when not even one workgroup fits.
-uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint64_t maxBufferRange, uint64_t maxPaths,
-                      uint32_t maxGroups);
+uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint32_t lanes, uint64_t maxBufferRange,
+                      uint64_t maxPaths, uint32_t maxGroups);
 
 struct WavefrontBuffers {
-  WavefrontBuffers(const VulkanContext& context, uint32_t batchSize, uint32_t layers);
+  WavefrontBuffers(const VulkanContext& context, uint32_t batchSize, uint32_t layers, uint32_t lanes);
   uint64_t bytes() const;
 
   Buffer paths, hits, rayQueues, shadowQueue, counters, dispatchArgs, pathAccum;
+  Buffer pathDerivs, shadowDerivs;  // derivative lanes (16 bytes when there are none)
 };
 
 }  // namespace vktg

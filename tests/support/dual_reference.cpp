@@ -77,12 +77,19 @@ FiniteDifference centralDifference(const ScalarFunction& f, const std::vector<do
   // Each double evaluation errs by at most ~1e3 ulps of the largest value (generous for the twins'
   // chains of some hundred operations); the difference at step h/4 divides that by h/2.
   double noise = 1e3 * std::numeric_limits<double>::epsilon() * magnitude / (h / 2);
+  // One-sided slopes differ by f'' k for smooth f, by the slope's jump at a kink on x: their
+  // difference over k (the second difference) halves with k only when f is smooth at x.
+  double f0 = f(x);
+  double curve2 = (f(along(x, tangent, h / 2)) + f(along(x, tangent, -h / 2)) - 2 * f0) / (h / 2);
+  double curve4 = (f(along(x, tangent, h / 4)) + f(along(x, tangent, -h / 4)) - 2 * f0) / (h / 4);
   FiniteDifference r;
-  if (!std::isfinite(d1) || !std::isfinite(d2) || !std::isfinite(d4)) {
+  if (!std::isfinite(d1) || !std::isfinite(d2) || !std::isfinite(d4) || !std::isfinite(curve2) ||
+      !std::isfinite(curve4)) {
     r.smooth = false;
     return r;
   }
-  r.smooth = std::abs(d2 - d4) <= 0.5 * std::abs(d1 - d2) + 2 * noise;
+  r.smooth = std::abs(d2 - d4) <= 0.5 * std::abs(d1 - d2) + 2 * noise &&
+             std::abs(curve4) <= 0.75 * std::abs(curve2) + 4 * noise;
   r.derivative = d4 + (d4 - d2) / 3.0;
   r.truncation = std::abs(d4 - d2) + noise;
   return r;
@@ -101,11 +108,16 @@ FloatScale floatScale(const ScalarFunction& f, const std::vector<double>& x, con
   }
   std::mt19937_64 rng(seed);
   const double delta = std::ldexp(1.0, -20);
-  for (int trial = 0; trial < 2; ++trial) {
-    std::vector<double> y(x.size());
-    for (size_t i = 0; i < x.size(); ++i) y[i] = frozen[i] ? x[i] : x[i] * (1.0 + ((rng() & 1) ? delta : -delta));
-    double moved = centralDifference(f, y, tangent, h).derivative;
-    s.conditioning = std::max(s.conditioning, std::abs(moved - base) / delta);
+  // Values (trials 0, 1) and tangent components (trials 2, 3): a derivative is a sum of products of
+  // tangent components with partial derivatives, and perturbing the tangent reveals those products'
+  // magnitudes where they cancel (the part of a' across a in a normalisation, say).
+  for (int trial = 0; trial < 4; ++trial) {
+    std::vector<double> y = x, t = tangent;
+    std::vector<double>& moved = trial < 2 ? y : t;
+    for (size_t i = 0; i < x.size(); ++i)
+      if (!(trial < 2 && frozen[i])) moved[i] *= 1.0 + ((rng() & 1) ? delta : -delta);
+    double d = centralDifference(f, y, t, h).derivative;
+    s.conditioning = std::max(s.conditioning, std::abs(d - base) / delta);
   }
   return s;
 }

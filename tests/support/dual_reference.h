@@ -46,9 +46,11 @@ using ScalarFunction = std::function<double(const std::vector<double>&)>;
 // value D(h/4) + (D(h/4) - D(h/2)) / 3 is f' + O(h^4); `truncation` = |D(h/4) - D(h/2)| plus the
 // rounding noise of the double differences bounds its error with margin (3x the leading term).
 // `smooth` is false when the successive differences do not shrink like k^2 (|D(h/2) - D(h/4)| >
-// |D(h) - D(h/2)| / 2): a kink or jump inside the stencil (a branch, a clamp, a cut-off), where a
-// finite difference does not measure the derivative. A kink or jump closer to x than h/4 always fails
-// the test; one farther away leaves the Richardson value's error below `truncation`.
+// |D(h) - D(h/2)| / 2), or the second differences (f(x+k) + f(x-k) - 2 f(x)) / k not like k (a
+// kink exactly at x, which the symmetric differences cannot see): a kink or jump inside the stencil
+// (a branch, a clamp, a cut-off), where a finite difference does not measure the derivative. A kink
+// or jump closer to x than h/4 always fails the test; one farther away leaves the Richardson value's
+// error below `truncation`.
 struct FiniteDifference {
   double derivative = 0.0;
   double truncation = 0.0;
@@ -61,8 +63,9 @@ FiniteDifference centralDifference(const ScalarFunction& f, const std::vector<do
 //  terms        sum over input groups of |derivative along that group's part of the tangent|: the
 //               magnitude of the terms the dual arithmetic adds, which its rounding is relative to;
 //  conditioning change of the derivative per unit relative perturbation of the input values
-//               (measured: two random sign patterns of relative size 2^-20): the rounding of
-//               intermediate values acts like such perturbations. Inputs marked in `frozen` stay
+//               and of the tangent components (measured: two random sign patterns each, of
+//               relative size 2^-20): the rounding of intermediate values acts like such
+//               perturbations. Inputs marked in `frozen` stay
 //               put (values that the twin must receive exactly, such as float material scalars).
 // A dual chain of N operations then errs by at most about N u (terms + conditioning).
 struct FloatScale {

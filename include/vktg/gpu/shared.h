@@ -171,7 +171,7 @@ struct FrameUniforms {
                           // z: support max (gate sampling), w: gaussian normaliser
   uvec4 gateInfo;         // x: gate type, y: bin count, z: nee mode, w: max depth
   uvec4 pathInfo;         // x: roulette depth, y: first vertex with an ellipsoidal connection, z: channels, w: batch size
-  vec4 sceneInfo;         // x: ray epsilon (scene-scale relative), y: scene diagonal, z: total light power, w: unused
+  vec4 sceneInfo;         // x: ray epsilon (scene-scale relative), y: scene diagonal, z: total light power, w: vertex count (uint bits)
   uvec4 chunkShift;       // log2 of elements per chunk: x triangles, y BVH nodes, z film floats, w unused
 };
 

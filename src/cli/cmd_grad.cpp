@@ -1,0 +1,154 @@
+// `vktg grad` and `vktg fd`: derivative images of a time-gated render with respect to scene
+// parameters, and their finite-difference reference.
+#include <cstdio>
+#include <iostream>
+
+#include "cli/commands.h"
+#include "cli/common.h"
+#include "host/gradient.h"
+#include "vktg/image_io.h"
+
+namespace vktg::cli {
+namespace {
+
+std::vector<OptionSpec> derivativeOptions() {
+  std::vector<OptionSpec> options = sceneOverrideOptions();
+  options.push_back({"--param", "NAMES", "comma-separated parameter names from the scene (a * matches any text)"});
+  options.push_back({"--out", "FILE.exr", "output (default out/grad.exr or out/fd.exr); PNG previews go beside it"});
+  options.push_back({"--npy", "", "also write FILE.npy, float32 of shape (H, W, parameters x layers)"});
+  for (auto& o : deviceOptions()) options.push_back(o);
+  return options;
+}
+
+// One EXR layer per (parameter, gate layer): "param" or "param.bin_...".
+ImageSet derivativeLayers(const std::vector<std::string>& names, const std::vector<ImageSet>& images) {
+  ImageSet out;
+  out.width = images.at(0).width;
+  out.height = images.at(0).height;
+  for (size_t p = 0; p < names.size(); ++p)
+    for (const ImageLayer& layer : images[p].layers)
+      out.layers.push_back({layer.name.empty() ? names[p] : names[p] + "." + layer.name, layer.pixels});
+  return out;
+}
+
+// PNG previews in a diverging colormap, one per parameter (first layer; a contact sheet would
+// need one shared scale), with the scale in the file name and printed.
+void writePreviews(const std::filesystem::path& exr, const ImageSet& set, bool quiet) {
+  for (const ImageLayer& layer : set.layers) {
+    std::filesystem::path tmp = exr;
+    tmp.replace_extension("");
+    std::filesystem::path png = tmp.string() + "." + layer.name + ".png";
+    float scale = writePngDiverging(png, set.width, set.height, layer.pixels);
+    char scaled[64];
+    std::snprintf(scaled, sizeof scaled, "%.3g", scale);
+    if (!quiet) std::fprintf(stderr, "vktg: %s: red +%s, blue -%s\n", png.string().c_str(), scaled, scaled);
+  }
+}
+
+}  // namespace
+
+const CommandSpec& gradSpec() {
+  static const CommandSpec spec = [] {
+    CommandSpec s;
+    s.name = "grad";
+    s.usage = "grad SCENE --param NAME[,NAME...] [options]";
+    s.description =
+        "Derivatives of the time-gated image with respect to scene parameters (forward mode through the\n"
+        "wavefront passes). Writes one EXR layer per parameter (per bin for a transient stack) and a PNG\n"
+        "per layer in a diverging colormap (red positive, blue negative, the scale printed).\n"
+        "Terms: the interior term (THEORY.md section 3) is computed; the visibility-edge and\n"
+        "path-length-boundary terms are not implemented yet, so derivatives that need them (moving\n"
+        "silhouettes or shadows, gates with jumps moved by geometry) are incomplete: --explain says when.";
+    s.options = derivativeOptions();
+    s.options.push_back({"--terms", "LIST", "which terms to compute: interior (the only one implemented)"});
+    s.options.push_back({"--explain", "", "print the planner's choices and why"});
+    s.examples = "  vktg grad scenes/occluder_shadow.json --param occluder_x,floor_albedo\n"
+                 "  vktg grad scenes/confocal_plane.json --param '*' --spp 100000\n";
+    return s;
+  }();
+  return spec;
+}
+
+const CommandSpec& fdSpec() {
+  static const CommandSpec spec = [] {
+    CommandSpec s;
+    s.name = "fd";
+    s.usage = "fd SCENE --param NAME --eps E [options]";
+    s.description =
+        "Central finite difference (I(θ+E) - I(θ-E)) / 2E of the render, both sides with the same random\n"
+        "numbers: the reference `vktg grad` is validated against.";
+    s.options = derivativeOptions();
+    s.options.push_back({"--eps", "E", "the step (parameter units)"});
+    s.examples = "  vktg fd scenes/occluder_shadow.json --param floor_albedo --eps 0.01\n";
+    return s;
+  }();
+  return spec;
+}
+
+int runGrad(const std::vector<std::string>& argv) {
+  ParsedArgs args = parseArgs(gradSpec(), argv);
+  if (args.has("--help")) {
+    std::cout << helpText(gradSpec());
+    return 0;
+  }
+  bool quiet = args.has("--quiet");
+  Scene scene = loadSceneWithOverrides(args, false);
+  if (auto terms = args.get("--terms"); terms && *terms != "interior")
+    throw UsageError("--terms: '" + *terms + "': only the interior term is implemented yet");
+  std::vector<std::string> names = selectParameters(scene, args.get("--param").value_or(""));
+  RenderOptions options;
+  if (auto nee = args.get("--nee")) options.nee = parseNeeMode(*nee);
+  options.memoryBudget = memoryBudget(args);
+  std::filesystem::path exr = outputPath(args, "grad");
+  checkOutputPath(exr, {args.positionals[0]});
+  auto context = makeContext(args);
+  Renderer renderer(*context);
+  options.progress = makeProgress("grad", quiet);
+  GradientResult result = renderGradient(renderer, scene, names, options);
+  if (args.has("--explain")) {
+    std::cout << "plan (" << context->report().name << "):\n" << explainPlan(result.primal.plan);
+    std::cout << "  - interior term: forward mode, " << names.size() << " parameter(s) in blocks of "
+              << kMaxDerivativeLanes << " lanes\n"
+              << "  - edge and path-length-boundary terms: not implemented yet (derivatives through moving\n"
+                 "    silhouettes, shadows or gate jumps are missing those terms)\n";
+  }
+  ImageSet layers = derivativeLayers(names, result.derivatives);
+  writeExr(exr, layers);
+  writePreviews(exr, layers, quiet);
+  if (args.has("--npy")) writeNpy(withExtension(exr, ".npy"), layers);
+  if (!quiet)
+    std::fprintf(stderr, "vktg: %zu derivative layer(s) in %.3f s, %llu non-finite; wrote %s\n", layers.layers.size(),
+                 result.stats.seconds, (unsigned long long)result.stats.nonFinite, exr.string().c_str());
+  return finishWithValidationCheck(*context, result.stats.nonFinite == 0 ? 0 : 4);
+}
+
+int runFd(const std::vector<std::string>& argv) {
+  ParsedArgs args = parseArgs(fdSpec(), argv);
+  if (args.has("--help")) {
+    std::cout << helpText(fdSpec());
+    return 0;
+  }
+  bool quiet = args.has("--quiet");
+  Scene scene = loadSceneWithOverrides(args, false);
+  auto param = args.get("--param");
+  if (!param) throw UsageError("--param NAME is required");
+  auto eps = args.number("--eps");
+  if (!eps || !(*eps > 0)) throw UsageError("--eps E (a positive step) is required");
+  RenderOptions options;
+  if (auto nee = args.get("--nee")) options.nee = parseNeeMode(*nee);
+  options.memoryBudget = memoryBudget(args);
+  std::filesystem::path exr = outputPath(args, "fd");
+  checkOutputPath(exr, {args.positionals[0]});
+  auto context = makeContext(args);
+  Renderer renderer(*context);
+  options.progress = makeProgress("fd", quiet);
+  FiniteDifferenceResult fd = finiteDifference(renderer, scene, *param, *eps, options);
+  ImageSet layers = derivativeLayers({*param}, {fd.derivative});
+  writeExr(exr, layers);
+  writePreviews(exr, layers, quiet);
+  if (args.has("--npy")) writeNpy(withExtension(exr, ".npy"), layers);
+  if (!quiet) std::fprintf(stderr, "vktg: finite difference in %.3f s; wrote %s\n", fd.stats.seconds, exr.string().c_str());
+  return finishWithValidationCheck(*context, fd.stats.nonFinite == 0 ? 0 : 4);
+}
+
+}  // namespace vktg::cli
