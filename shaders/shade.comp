@@ -66,7 +66,7 @@ void main() {
     pathDerivs[slot] = pd;
   }
 #endif
-  if (shape.emission > 0.0 && dot(sp.normal, wi) > 0.0 && emitterHitCounts(depth)) {
+  if (kSpecTermValue == kTermInterior && shape.emission > 0.0 && dot(sp.normal, wi) > 0.0 && emitterHitCounts(depth)) {
     // MIS against the standard NEE of the previous vertex, when that vertex did one (the
     // pinhole never does; the point sensor does).
     uint previous = depth - 1u;

@@ -29,6 +29,26 @@ void main() {
   ShadowRay r = shadowRays[index];
   if (!segmentVisible(r.p0Value.xyz, r.p1Length.xyz)) return;
   if (r.info.y == 2u && !segmentVisible(r.p1Length.xyz, r.p2.xyz)) return;
+#ifdef VKTG_DERIVATIVE
+  if (kSpecTermValue == kTermPathLength) {
+    // ΔW_k(s) f dL/dθ for the layers whose weight jumps at s (gate-centre lane: the jump moves
+    // with θ, so dL/dθ - 1).
+    uint layers = frame.gateInfo.y, channels = frame.pathInfo.z;
+    uint jump = r.info.z;
+    uint firstLayer = kSpecGateTypeValue == kGateBins ? (jump > 0u ? jump - 1u : 0u) : 0u;
+    uint lastLayer = kSpecGateTypeValue == kGateBins ? min(jump, layers - 1u) : 0u;
+    for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
+      float dLen = shadowDerivs[index * kSpecLanesValue + lane].y;
+      float rate = dLen - (lanes[lane].info.x == kLaneGateCenter ? 1.0 : 0.0);
+      for (uint k = firstLayer; k <= lastLayer; ++k) {
+        float d = gateJumpSize(jump, k) * r.p0Value.w * rate;
+        if (isnan(d) || isinf(d)) atomicAdd(counters[kCounterNonFinite], 1u);
+        else if (d != 0.0) atomicAdd(pathAccum[(r.info.x * layers + k) * channels + 1u + lane], d);
+      }
+    }
+    return;
+  }
+#endif
   addContribution(r.info.x, r.p0Value.w, r.p1Length.w);
 #ifdef VKTG_DERIVATIVE
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {

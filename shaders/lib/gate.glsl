@@ -54,6 +54,42 @@ float gateSampleLength(vec2 u, out float s) {
   return hi - lo;
 }
 
+// Jumps of W (THEORY.md §3, path-length boundary), in increasing order of length: box and
+// truncated gaussian at a and b, bins at every bin edge.
+uint gateJumpCount() {
+  if (kSpecGateTypeValue == kGateBox || kSpecGateTypeValue == kGateTruncatedGaussian) return 2u;
+  if (kSpecGateTypeValue == kGateBins) return frame.gateInfo.y + 1u;
+  return 0u;
+}
+
+float gateJumpLocation(uint j) {
+  if (kSpecGateTypeValue == kGateBins) return frame.gate.x + frame.gate.y * float(j);
+  return j == 0u ? frame.gate.z : frame.gate.w;
+}
+
+// ΔW_k(s_j) = W_k(s_j+) - W_k(s_j-) for layer k.
+float gateJumpSize(uint j, uint layer) {
+  if (kSpecGateTypeValue == kGateBins) return layer == j ? 1.0 : (layer + 1u == j ? -1.0 : 0.0);
+  float w = 1.0;
+  if (kSpecGateTypeValue == kGateTruncatedGaussian) {
+    float z = (gateJumpLocation(j) - frame.gate.x) / frame.gate.y;
+    w = exp(-0.5 * z * z);
+  }
+  return j == 0u ? w : -w;
+}
+
+// Index of the first jump strictly beyond `len` (gateJumpCount() if none).
+uint gateFirstJumpAbove(float len) {
+  uint count = gateJumpCount();
+  if (kSpecGateTypeValue == kGateBins) {
+    float k = floor((len - frame.gate.x) / frame.gate.y) + 1.0;
+    return uint(clamp(k, 0.0, float(count)));
+  }
+  uint j = 0u;
+  while (j < count && gateJumpLocation(j) <= len) ++j;
+  return j;
+}
+
 // The density gateSampleLength draws s from (for MIS weights of other strategies' paths).
 float gateSamplePdf(float s) {
   if (kSpecGateTypeValue == kGateGaussian) {

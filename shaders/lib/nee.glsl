@@ -150,18 +150,50 @@ void standardNee(uint path, NeeVertex v, uint depth, vec3 u) {
     float pEll = areaPdfEllipsoidal(v.previousPosition, v.previousLen, ls.position, len, v.triangle, v.position);
     value *= powerHeuristic(pBsdf, pEll);
   }
-  uint slot = queueShadowRay(path, v.position, ls.position, vec3(0.0), 1u, value, len);
+  uint slot = queueShadowRay(path, v.position, ls.position, vec3(0.0), 1u, value, len, 0xffffffffu);
 #ifdef VKTG_DERIVATIVE
   standardNeeDerivatives(slot, v, ls, value);
 #endif
 }
 
+// One ellipsoidal connection of total length s (1/p(s) = invPdfS), scaled by `share` (1/2 for
+// each member of an antithetic pair); `jump` tags path-length-boundary connections.
+void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float share, LightSample ls, vec4 uEllipsoid,
+                           uint jump);
+
 void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllipsoid) {
   float s;
   float invPdfS = gateSampleLength(uGate, s);
-  if (!(invPdfS > 0.0)) return;
   LightSample ls;
   if (!sampleLight(uLight, ls)) return;
+  if (kSpecAntitheticValue != 0u && kSpecGateTypeValue == kGateGaussian) {
+    // Antithetic pair (THEORY.md §5): s and its mirror 2 mu - s share every other random number;
+    // the symmetric gate gives both the same density, and W'(s) + W'(2 mu - s) = 0 cancels the
+    // large derivative terms of a near-delta gate between the pair.
+    float mirror = 2.0 * frame.gate.x - s;
+    if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 0.5, ls, uEllipsoid, 0xffffffffu);
+    if (invPdfS > 0.0) ellipsoidalConnection(path, v, mirror, invPdfS, 0.5, ls, uEllipsoid, 0xffffffffu);
+    return;
+  }
+  if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 1.0, ls, uEllipsoid, 0xffffffffu);
+}
+
+// Path-length boundary (THEORY.md §3): a path placed exactly on L = s_j by an ellipsoidal
+// connection, s_j one of the gate's jumps beyond the straight-line reach, chosen uniformly
+// (weight: their count). trace_shadow_rays_d multiplies by ΔW(s_j) dL/dθ.
+void pathLengthBoundaryConnection(uint path, NeeVertex v, float uJump, vec3 uLight, vec4 uEllipsoid) {
+  LightSample ls;
+  if (!sampleLight(uLight, ls)) return;
+  uint first = gateFirstJumpAbove(v.len + distance(v.position, ls.position));
+  uint count = gateJumpCount();
+  if (first >= count) return;
+  uint choices = count - first;
+  uint j = first + min(uint(uJump * float(choices)), choices - 1u);
+  ellipsoidalConnection(path, v, gateJumpLocation(j), float(choices), 1.0, ls, uEllipsoid, j);
+}
+
+void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float share, LightSample ls, vec4 uEllipsoid,
+                           uint jump) {
   float sPrime = s - v.len;
   // The shell must be longer than the straight line x -> y; otherwise no path of length s exists.
   if (!(sPrime > distance(v.position, ls.position))) return;
@@ -189,13 +221,13 @@ void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllip
     if (cosY <= 0.0) return;
     g2 *= cosY;
   }
-  float value = v.throughput * f1 * g1 * f2 * g2 * ls.emission * es.weight * invPdfS / ls.pdf;
-  if (kSpecNeeModeValue == kNeeMis) {
+  float value = share * v.throughput * f1 * g1 * f2 * g2 * ls.emission * es.weight * invPdfS / ls.pdf;
+  if (kSpecNeeModeValue == kNeeMis && kSpecTermValue == kTermInterior) {
     float pBsdf = vertexPdf(v, w1) * abs(dot(xk.normal, w1)) / (len1 * len1);
     float pEll = 1.0 / (invPdfS * es.weight);
     value *= powerHeuristic(pEll, pBsdf);
   }
-  uint slot = queueShadowRay(path, v.position, xk.position, ls.position, 2u, value, s);
+  uint slot = queueShadowRay(path, v.position, xk.position, ls.position, 2u, value, s, jump);
 #ifdef VKTG_DERIVATIVE
   ellipsoidalNeeDerivatives(slot, v, ls, es, xk.shape, value);
 #endif
@@ -218,6 +250,16 @@ bool emitterHitCounts(uint depth) { return kSpecNeeModeValue == kNeeStandard || 
 
 void neeAtVertex(uint path, NeeVertex v, uint depth, uint pixel, uint sampleIndex) {
   uint seed = frame.image.w;
+  if (kSpecTermValue == kTermPathLength) {
+    // Every path an ellipsoidal connection can make, placed on a jump instead of sampled from W.
+    if (depth >= frame.pathInfo.y && depth + 2u <= frame.gateInfo.w) {
+      Rng rg = rngForBounce(pixel, sampleIndex, depth, kRngSlotGate, seed);
+      Rng rl = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoidLight, seed);
+      Rng re = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoid, seed);
+      pathLengthBoundaryConnection(path, v, rngNext4(rg).x, rngNext4(rl).xyz, rngNext4(re));
+    }
+    return;
+  }
   if (standardNeeAt(depth)) {
     Rng r = rngForBounce(pixel, sampleIndex, depth, kRngSlotLight, seed);
     standardNee(path, v, depth, rngNext4(r).xyz);

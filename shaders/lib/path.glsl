@@ -31,14 +31,15 @@ void addContribution(uint path, float value, float len) {
 }
 
 // Queues a connection; returns its slot (~0 when the value is zero and nothing was queued).
-uint queueShadowRay(uint path, vec3 p0, vec3 p1, vec3 p2, uint segments, float value, float len) {
+// `jump`: the gate jump a path-length-boundary connection sits on (~0 otherwise).
+uint queueShadowRay(uint path, vec3 p0, vec3 p1, vec3 p2, uint segments, float value, float len, uint jump) {
   if (value == 0.0) return 0xffffffffu;
   uint slot = atomicAdd(counters[kCounterShadow], 1u);
   ShadowRay r;
   r.p0Value = vec4(p0, value);
   r.p1Length = vec4(p1, len);
   r.p2 = vec4(p2, 0.0);
-  r.info = uvec4(path, segments, 0u, 0u);
+  r.info = uvec4(path, segments, jump, 0u);
   shadowRays[slot] = r;
   return slot;
 }

@@ -2,6 +2,7 @@
 // parameters, and their finite-difference reference.
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 
 #include "cli/commands.h"
 #include "cli/common.h"
@@ -56,11 +57,14 @@ const CommandSpec& gradSpec() {
         "Derivatives of the time-gated image with respect to scene parameters (forward mode through the\n"
         "wavefront passes). Writes one EXR layer per parameter (per bin for a transient stack) and a PNG\n"
         "per layer in a diverging colormap (red positive, blue negative, the scale printed).\n"
-        "Terms: the interior term (THEORY.md section 3) is computed; the visibility-edge and\n"
-        "path-length-boundary terms are not implemented yet, so derivatives that need them (moving\n"
-        "silhouettes or shadows, gates with jumps moved by geometry) are incomplete: --explain says when.";
+        "Terms (THEORY.md section 3): interior and path-length boundary, each its own pass; the\n"
+        "visibility-edge term is not implemented yet, so derivatives through moving silhouettes or\n"
+        "shadow boundaries are incomplete (--explain says so).";
     s.options = derivativeOptions();
-    s.options.push_back({"--terms", "LIST", "which terms to compute: interior (the only one implemented)"});
+    s.options.push_back({"--terms", "LIST", "terms to compute: interior,pathlength (default: those the planner finds needed)"});
+    s.options.push_back({"--split-terms", "", "also write each term's images (FILE.interior.exr, FILE.pathlength.exr)"});
+    s.options.push_back({"--spp-boundary", "N", "samples per pixel of the path-length-boundary pass (default: --spp)"});
+    s.options.push_back({"--antithetic", "MODE", "auto | on | off: antithetic pairs for near-delta gaussian gates (default auto)"});
     s.options.push_back({"--explain", "", "print the planner's choices and why"});
     s.examples = "  vktg grad scenes/occluder_shadow.json --param occluder_x,floor_albedo\n"
                  "  vktg grad scenes/confocal_plane.json --param '*' --spp 100000\n";
@@ -93,10 +97,26 @@ int runGrad(const std::vector<std::string>& argv) {
   }
   bool quiet = args.has("--quiet");
   Scene scene = loadSceneWithOverrides(args, false);
-  if (auto terms = args.get("--terms"); terms && *terms != "interior")
-    throw UsageError("--terms: '" + *terms + "': only the interior term is implemented yet");
   std::vector<std::string> names = selectParameters(scene, args.get("--param").value_or(""));
-  RenderOptions options;
+  GradientOptions gradient;
+  if (auto terms = args.get("--terms")) {
+    gradient.interior = gradient.pathLength = false;
+    std::stringstream list(*terms);
+    for (std::string term; std::getline(list, term, ',');) {
+      if (term == "interior") gradient.interior = true;
+      else if (term == "pathlength") gradient.pathLength = true;
+      else if (term == "edge") throw UsageError("--terms: the edge term is not implemented yet");
+      else throw UsageError("--terms: unknown term '" + term + "' (interior, pathlength)");
+    }
+  }
+  if (auto antithetic = args.get("--antithetic")) {
+    if (*antithetic == "auto") gradient.antithetic = AntitheticMode::Auto;
+    else if (*antithetic == "on") gradient.antithetic = AntitheticMode::On;
+    else if (*antithetic == "off") gradient.antithetic = AntitheticMode::Off;
+    else throw UsageError("--antithetic: '" + *antithetic + "' is not one of auto, on, off");
+  }
+  gradient.sppBoundary = args.count("--spp-boundary", 1, 1u << 24).value_or(0);
+  RenderOptions& options = gradient.render;
   if (auto nee = args.get("--nee")) options.nee = parseNeeMode(*nee);
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "grad");
@@ -104,16 +124,24 @@ int runGrad(const std::vector<std::string>& argv) {
   auto context = makeContext(args);
   Renderer renderer(*context);
   options.progress = makeProgress("grad", quiet);
-  GradientResult result = renderGradient(renderer, scene, names, options);
+  GradientResult result = renderGradient(renderer, scene, names, gradient);
   if (args.has("--explain")) {
     std::cout << "plan (" << context->report().name << "):\n" << explainPlan(result.primal.plan);
-    std::cout << "  - interior term: forward mode, " << names.size() << " parameter(s) in blocks of "
-              << kMaxDerivativeLanes << " lanes\n"
-              << "  - edge and path-length-boundary terms: not implemented yet (derivatives through moving\n"
-                 "    silhouettes, shadows or gate jumps are missing those terms)\n";
+    for (const std::string& reason : result.plan.reasons) std::cout << "  - " << reason << "\n";
+    std::cout << "  - " << names.size() << " parameter(s) in blocks of " << kMaxDerivativeLanes << " lanes\n";
   }
-  ImageSet layers = derivativeLayers(names, result.derivatives);
+  ImageSet layers = derivativeLayers(names, result.total.derivatives);
   writeExr(exr, layers);
+  if (args.has("--split-terms")) {
+    for (const auto& [term, images] : {std::pair<const char*, const TermImages*>{"interior", &result.interior},
+                                       std::pair<const char*, const TermImages*>{"pathlength", &result.pathLength}}) {
+      if (images->derivatives.empty()) continue;
+      std::filesystem::path split = exr;
+      split.replace_extension(std::string(".") + term + ".exr");
+      writeExr(split, derivativeLayers(names, images->derivatives));
+      if (!quiet) std::fprintf(stderr, "vktg: wrote %s\n", split.string().c_str());
+    }
+  }
   writePreviews(exr, layers, quiet);
   if (args.has("--npy")) writeNpy(withExtension(exr, ".npy"), layers);
   if (!quiet)

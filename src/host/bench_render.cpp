@@ -133,7 +133,7 @@ BenchRenderReport benchRender(VulkanContext& context, const BenchRenderOptions& 
     cases.push_back(std::move(c));
   }
   {
-    BenchCase c{"confocal", confocalPlaneScene(h, rho, intensity, half), boxGate(2.4, 2.6), "box [2.4,2.6]", {}, 512};
+    BenchCase c{"confocal", confocalPlaneScene(h, rho, intensity, half), boxGate(2.4, 2.6), "box 2.4-2.6 m", {}, 512};
     c.reference = {float(confocalPlaneResponse(h, rho, intensity, c.gate, half))};
     cases.push_back(std::move(c));
   }
@@ -146,7 +146,7 @@ BenchRenderReport benchRender(VulkanContext& context, const BenchRenderOptions& 
     c.gateName = name;
     cases.push_back(std::move(c));
   }
-  cases.push_back({"cornell", defaultScene(), boxGate(4.5, 5.5), "box [4.5,5.5]", {}, 4});
+  cases.push_back({"cornell", defaultScene(), boxGate(4.5, 5.5), "box 4.5-5.5 m", {}, 4});
 
   for (BenchCase& c : cases) {
     c.scene.gate = c.gate;

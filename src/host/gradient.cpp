@@ -25,25 +25,110 @@ void addStats(RenderStats& total, const RenderStats& s) {
 
 }  // namespace
 
-GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std::vector<std::string>& parameters,
-                              const RenderOptions& options) {
-  if (parameters.empty()) throw Error("--param: no parameters selected");
+GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& parameters, const GradientOptions& options) {
+  GradientPlan plan;
   std::vector<ParameterBinding> bindings = bindParameters(scene, parameters);
-  GradientResult result;
-  result.parameters = parameters;
+  bool movesLength = false;  // some parameter changes path lengths or the gate's position
+  for (const ParameterBinding& b : bindings)
+    movesLength |= isGeometric(b.kind) || b.kind == ParameterKind::GateCenter;
+  plan.interior = options.interior;
+  if (plan.interior) plan.reasons.push_back("interior term: forward mode through every sampled path");
+  const Gate& gate = scene.gate;
+  if (!options.pathLength) {
+    plan.reasons.push_back("path-length-boundary term: not requested");
+  } else if (!gate.hasJumps()) {
+    plan.reasons.push_back("no path-length-boundary pass: the gate (" + gate.describe() + ") has no jumps");
+  } else if (!movesLength) {
+    plan.reasons.push_back("no path-length-boundary pass: no selected parameter changes path lengths or moves the gate");
+  } else {
+    plan.pathLength = true;
+    plan.reasons.push_back("path-length-boundary pass: the gate jumps at " + std::to_string(gate.jumpLocations().size()) +
+                           " lengths and parameters move path lengths across them");
+  }
+  bool nearDelta = gate.type == GateType::Gaussian && gate.sigma <= kNearDeltaSigmaOverMu * gate.mu;
+  plan.antithetic = options.antithetic == AntitheticMode::On ||
+                    (options.antithetic == AntitheticMode::Auto && nearDelta);
+  if (plan.antithetic && gate.type != GateType::Gaussian) {
+    plan.antithetic = false;
+    plan.reasons.push_back("no antithetic pairs: they mirror about the centre of a gaussian gate");
+  } else if (plan.antithetic) {
+    plan.reasons.push_back(nearDelta ? "antithetic pairs s, 2 mu - s for the ellipsoidal connections: the gaussian gate is near-delta (sigma/mu <= 1e-2)"
+                                     : "antithetic pairs: requested");
+  }
+  plan.reasons.push_back("edge (visibility-boundary) term: not implemented yet; derivatives through moving silhouettes or shadow boundaries miss it");
+  return plan;
+}
+
+namespace {
+
+// Renders one term for every parameter, in blocks of kMaxDerivativeLanes lanes.
+TermImages renderTerm(Renderer& renderer, const Scene& scene, const std::vector<ParameterBinding>& bindings,
+                      const RenderOptions& options, RenderStats& stats, RenderResult* primal) {
+  TermImages term;
   for (size_t first = 0; first < bindings.size(); first += kMaxDerivativeLanes) {
     RenderOptions block = options;
     size_t last = std::min(bindings.size(), first + kMaxDerivativeLanes);
     block.derivativeLanes.assign(bindings.begin() + first, bindings.begin() + last);
     RenderResult r = renderer.render(scene, block);
-    addStats(result.stats, r.stats);
+    addStats(stats, r.stats);
     for (size_t k = 0; k < r.derivatives.size(); ++k) {
-      result.derivatives.push_back(std::move(r.derivatives[k]));
-      result.variances.push_back(std::move(r.derivativeVariances[k]));
+      term.derivatives.push_back(std::move(r.derivatives[k]));
+      term.variances.push_back(std::move(r.derivativeVariances[k]));
     }
-    if (first == 0) result.primal = std::move(r);
+    if (first == 0 && primal) *primal = std::move(r);
   }
+  return term;
+}
+
+// Adds `b` into `a` (variances add: the passes are independent).
+void accumulateTerm(TermImages& a, const TermImages& b) {
+  if (a.derivatives.empty()) {
+    a = b;
+    return;
+  }
+  for (size_t p = 0; p < a.derivatives.size(); ++p)
+    for (size_t l = 0; l < a.derivatives[p].layers.size(); ++l)
+      for (size_t i = 0; i < a.derivatives[p].layers[l].pixels.size(); ++i) {
+        a.derivatives[p].layers[l].pixels[i] += b.derivatives[p].layers[l].pixels[i];
+        a.variances[p].layers[l].pixels[i] += b.variances[p].layers[l].pixels[i];
+      }
+}
+
+}  // namespace
+
+GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std::vector<std::string>& parameters,
+                              const GradientOptions& options) {
+  if (parameters.empty()) throw Error("--param: no parameters selected");
+  std::vector<ParameterBinding> bindings = bindParameters(scene, parameters);
+  GradientResult result;
+  result.parameters = parameters;
+  result.plan = planGradient(scene, parameters, options);
+  RenderOptions base = options.render;
+  base.antithetic = result.plan.antithetic;
+  if (result.plan.interior) {
+    result.interior = renderTerm(renderer, scene, bindings, base, result.stats, &result.primal);
+    accumulateTerm(result.total, result.interior);
+  } else {
+    result.primal = renderer.render(scene, base);
+    addStats(result.stats, result.primal.stats);
+  }
+  if (result.plan.pathLength) {
+    Scene boundaryScene = scene;
+    if (options.sppBoundary > 0) boundaryScene.render.spp = options.sppBoundary;
+    RenderOptions boundary = base;
+    boundary.pathLengthBoundary = true;
+    result.pathLength = renderTerm(renderer, boundaryScene, bindings, boundary, result.stats, nullptr);
+    accumulateTerm(result.total, result.pathLength);
+  }
+  if (result.total.derivatives.empty()) throw Error("--terms: no derivative term selected");
   return result;
+}
+
+GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std::vector<std::string>& parameters,
+                              const RenderOptions& options) {
+  GradientOptions gradient;
+  gradient.render = options;
+  return renderGradient(renderer, scene, parameters, gradient);
 }
 
 FiniteDifferenceResult finiteDifference(Renderer& renderer, const Scene& scene, const std::string& parameter,

@@ -1,6 +1,6 @@
 // Drivers for derivatives: `vktg grad` (forward-mode lanes through the wavefront passes, in blocks
-// of kMaxDerivativeLanes parameters) and `vktg fd` (central finite differences with common random
-// numbers, the reference the derivative passes are validated against).
+// of kMaxDerivativeLanes parameters; one render per term) and `vktg fd` (central finite
+// differences with common random numbers, the reference the derivative passes are checked by).
 #pragma once
 #include <string>
 #include <vector>
@@ -9,20 +9,52 @@
 
 namespace vktg {
 
-struct GradientResult {
-  RenderResult primal;                // the image of the first block (every block renders it)
-  std::vector<std::string> parameters;
-  std::vector<ImageSet> derivatives;  // per parameter: one layer per gate layer
-  std::vector<ImageSet> variances;
-  RenderStats stats;                  // summed over blocks
+enum class AntitheticMode { Auto, On, Off };
+
+struct GradientOptions {
+  RenderOptions render;
+  bool interior = true;
+  bool pathLength = true;           // the planner still drops it when it cannot contribute
+  uint32_t sppBoundary = 0;         // samples per pixel of the path-length-boundary pass (0: the scene's spp)
+  AntitheticMode antithetic = AntitheticMode::Auto;
 };
 
+// What the gradient planner runs and why.
+struct GradientPlan {
+  bool interior = false;
+  bool pathLength = false;
+  bool antithetic = false;
+  std::vector<std::string> reasons;
+};
+
+// Near-delta: a gaussian gate this narrow relative to its centre gets antithetic pairs.
+inline constexpr double kNearDeltaSigmaOverMu = 1e-2;
+
+GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& parameters, const GradientOptions& options);
+
+struct TermImages {
+  std::vector<ImageSet> derivatives;  // per parameter: one layer per gate layer
+  std::vector<ImageSet> variances;
+};
+
+struct GradientResult {
+  RenderResult primal;                 // the image (from the interior pass, or a plain render)
+  std::vector<std::string> parameters;
+  TermImages total;                    // sum of the terms that ran
+  TermImages interior, pathLength;     // per term (empty when the term did not run)
+  GradientPlan plan;
+  RenderStats stats;                   // summed over passes and blocks
+};
+
+GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std::vector<std::string>& parameters,
+                              const GradientOptions& options);
+// The same with every term the planner chooses and default settings.
 GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std::vector<std::string>& parameters,
                               const RenderOptions& options);
 
 struct FiniteDifferenceResult {
   ImageSet derivative;  // (I(θ + eps) - I(θ - eps)) / (2 eps), same seed on both sides
-  ImageSet variance;    // bound on its variance: (var+ + var-) / (4 eps^2) (the shared seed only lowers it)
+  ImageSet variance;    // (var+ + var-) / (4 eps^2): a bound when the shared seed correlates the sides positively
   RenderStats stats;
 };
 

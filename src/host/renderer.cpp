@@ -140,6 +140,10 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   spec[gpu::kSpecCameraType] = uint32_t(scene.camera.type);
   spec[gpu::kSpecLightMask] = prepared.lightMask;
   spec[gpu::kSpecLanes] = std::max(lanes, 1u);
+  spec[gpu::kSpecTerm] = options.pathLengthBoundary ? gpu::kTermPathLength : gpu::kTermInterior;
+  spec[gpu::kSpecAntithetic] = options.antithetic ? 1u : 0u;
+  if (options.pathLengthBoundary && (lanes == 0 || !scene.gate.hasJumps()))
+    throw Error("internal: the path-length-boundary term needs derivative lanes and a gate with jumps");
   // The derivative variants carry the lanes; passes without derivative work are shared.
   const std::string variant = lanes > 0 ? "_d" : "";
   VkPipeline generate = pipelines.get("generate_camera_rays" + variant, spec);

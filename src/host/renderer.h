@@ -23,6 +23,11 @@ struct RenderOptions {
   // Non-empty: the derivative variants of the passes also compute d image / d θ for these
   // parameters (the interior term, forward mode), at most kMaxDerivativeLanes at once.
   std::vector<ParameterBinding> derivativeLanes;
+  // Which derivative term the lanes compute: the interior term, or the path-length-boundary
+  // term of the gate's jumps (then the image channel stays zero).
+  bool pathLengthBoundary = false;
+  // Ellipsoidal connections in antithetic pairs s, 2 mu - s (gaussian gates; THEORY.md §5).
+  bool antithetic = false;
 };
 
 inline constexpr uint32_t kMaxDerivativeLanes = 4;

@@ -91,9 +91,10 @@ VKTG_CONST(uint, kBindingTestIn, 29);        // test kernels only
 VKTG_CONST(uint, kBindingTestOut, 30);       // test kernels only
 VKTG_CONST(uint, kBindingCount, 31);
 
-// At most this many shadow rays a path can queue per bounce (standard + ellipsoidal NEE,
-// plus the point sensor's connections queued by generate_camera_rays).
-VKTG_CONST(uint, kShadowRaysPerPath, 3);
+// At most this many shadow rays a path can queue per bounce: standard + an antithetic pair of
+// ellipsoidal connections, plus at a point sensor the pair its first hit queues in the same
+// bounce as generate_camera_rays' connections.
+VKTG_CONST(uint, kShadowRaysPerPath, 5);
 
 // ---- Specialisation constants (ids) and push constants of the passes ---------------------------
 VKTG_CONST(uint, kSpecMaterialMask, 0);   // bit per kMaterial* present in the scene
@@ -102,7 +103,12 @@ VKTG_CONST(uint, kSpecGateType, 2);       // kGate*
 VKTG_CONST(uint, kSpecCameraType, 3);     // kCamera*
 VKTG_CONST(uint, kSpecLightMask, 4);      // bit kLightAreaTriangle / kLightPoint present
 VKTG_CONST(uint, kSpecLanes, 5);          // derivative lanes K per path (derivative variants only)
-VKTG_CONST(uint, kSpecCount, 6);
+VKTG_CONST(uint, kSpecTerm, 6);           // kTermInterior / kTermPathLength (derivative variants only)
+VKTG_CONST(uint, kSpecAntithetic, 7);     // 1: ellipsoidal connections in antithetic pairs s, 2 mu - s
+VKTG_CONST(uint, kSpecCount, 8);
+
+VKTG_CONST(uint, kTermInterior, 0);       // d/dθ [W(L) f] along sampled paths
+VKTG_CONST(uint, kTermPathLength, 1);     // paths on L = s at the gate's jumps, weighted ΔW(s) dL/dθ
 
 // What a derivative lane differentiates (GpuLane.info.x).
 VKTG_CONST(uint, kLaneGeometry, 0);       // vertex velocities (kBindingVertexVelocity) and/or a point light's velocity
@@ -207,7 +213,7 @@ struct ShadowRay {
   vec4 p0Value;      // xyz: first point, w: contribution if visible
   vec4 p1Length;     // xyz: second point, w: total optical path length of the path
   vec4 p2;           // xyz: third point (two-segment rays only)
-  uvec4 info;        // x: path index, y: segment count (1 or 2), z, w: unused
+  uvec4 info;        // x: path index, y: segment count (1 or 2), z: gate jump (path-length boundary), w: unused
 };
 
 #ifdef __cplusplus
