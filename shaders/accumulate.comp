@@ -1,25 +1,40 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Pass accumulate: adds each finished path's per-layer value (and its square, for the
-// per-pixel variance) to the film.
-// Reads: pathAccum, paths[].ids.x (pixel). Writes: film sums and sums of squares (atomic:
-// paths share pixels).
-// Dispatch: ceil(active paths * layers * channels / kWorkgroupSize) groups.
+// Pass accumulate: adds a finished batch to the film. One invocation per film element (channel,
+// layer, pixel) sums, in batch order, the values of the batch's paths of that pixel (they sit at a
+// stride of `pixels` in the batch) with Kahan compensation and a per-element shift, so no
+// precision is lost to atomics in arbitrary order or to E[x^2] - E[x]^2 cancellation.
+// Each dispatch (a round) takes at most kPathsPerRound paths per element: some drivers cap loop
+// iterations (llvmpipe at 65535), and rounds keep every invocation short.
+// Reads: pathAccum, push.args (x: first pixel-sample index of the batch, y: round, z: batch index,
+// w: active paths). Writes: film. Dispatch: ceil(film elements / kWorkgroupSize) groups per round.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
+#include "lib/path.glsl"
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
 
 void main() {
-  // One invocation per (path, layer, channel); channel 0 is the image, 1..K derivative lanes.
   uint layers = frame.gateInfo.y, channels = frame.pathInfo.z;
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= push.args.w * layers * channels) return;
-  uint channel = i % channels;
-  uint pathLayer = i / channels;
-  uint path = pathLayer / layers, layer = pathLayer % layers;
-  float value = pathAccum[i];
   uint pixels = frame.image.x * frame.image.y;
-  addToFilm((channel * layers + layer) * pixels + paths[path].ids.x, value);
+  uint e = gl_GlobalInvocationID.x;
+  if (e >= pixels * layers * channels) return;
+  uint pixel = e % pixels;
+  uint layer = (e / pixels) % layers;
+  uint channel = e / (pixels * layers);
+  uint activePaths = push.args.w;
+  // Path i of the batch renders pixel (first + i) % pixels; this round starts kPathsPerRound
+  // of this pixel's paths further on.
+  uint i = (pixel + pixels - push.args.x % pixels) % pixels + push.args.y * kPathsPerRound * pixels;
+  if (i >= activePaths) return;
+  bool first = push.args.z == 0u && push.args.y == 0u;
+  vec4 f = first ? vec4(pathAccum[(i * layers + layer) * channels + channel], 0.0, 0.0, 0.0) : loadFilm(e);
+  float sum = f.y, compensation = f.z, squares = f.w, squaresCompensation = 0.0;
+  for (uint k = 0u; k < kPathsPerRound && i < activePaths; ++k, i += pixels) {
+    float d = pathAccum[(i * layers + layer) * channels + channel] - f.x;
+    addLength(sum, compensation, d);
+    addLength(squares, squaresCompensation, d * d);
+  }
+  storeFilm(e, vec4(f.x, sum, compensation, squares));
 }

@@ -39,24 +39,34 @@ void main() {
 #ifdef VKTG_DERIVATIVE
   // Step the derivative state to this vertex: its position, the path length, and the factor
   // f(x_{k-2}, x_{k-1}, x_k) G(x_{k-1}, x_k) J_k the BSDF sample at x_{k-1} left pending (its value
-  // is already in the throughput; the sample's density is a constant).
+  // is already in the throughput; the sample's density is a constant). The first hit behind a
+  // pinhole stays on its camera ray (its pixel is fixed); after a point sensor it is in material
+  // form like every other vertex, with the sensor's importance (constant) in place of f, as in
+  // the ellipsoidal connections from the sensor, so every term shares one parametrisation.
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
     uint slot = path * kSpecLanesValue + lane;
     PathDerivative pd = pathDerivs[slot];
     Dual3 previous = dual3(ps.position.xyz, pd.positionThroughput.xyz);
-    VertexDual x = depth == 1u ? rayVertexDual(triangle, uv, ps.direction.xyz, lane)
-                               : surfaceVertexDual(triangle, uv, lane);
+    bool rayForm = depth == 1u && kSpecCameraTypeValue == kCameraPerspective;
+    VertexDual x = rayForm ? rayVertexDual(triangle, uv, ps.direction.xyz, lane) : surfaceVertexDual(triangle, uv, lane);
     DualSegment seg = dualSegment(previous, x.position);
     float dThroughput = pd.positionThroughput.w;
-    if (depth >= 2u) {
-      uint previousTriangle = floatBitsToUint(ps.previous.w);
-      Dual3 p0, p1, p2;
-      triangleDual(previousTriangle, lane, p0, p1, p2);
-      Dual3 previousNormal = triangleNormalDual(p0, p1, p2);
-      Dual3 beforePrevious = dual3(ps.previous.xyz, pd.previousLength.xyz);
-      Dual3 wi = dualSegment(previous, beforePrevious).dir;
-      uint previousShape = floatBitsToUint(loadTriangle(previousTriangle).p0.w);
-      Dual f = bsdfOfMaterialDual(shapes[previousShape].material, previousNormal, wi, seg.dir, lane);
+    if (!rayForm) {
+      Dual3 previousNormal;
+      Dual f;
+      if (depth == 1u) {
+        previousNormal = dual3(frame.cameraForward.xyz);
+        f = dual(1.0);
+      } else {
+        uint previousTriangle = floatBitsToUint(ps.previous.w);
+        Dual3 p0, p1, p2;
+        triangleDual(previousTriangle, lane, p0, p1, p2);
+        previousNormal = triangleNormalDual(p0, p1, p2);
+        Dual3 beforePrevious = dual3(ps.previous.xyz, pd.previousLength.xyz);
+        Dual3 wi = dualSegment(previous, beforePrevious).dir;
+        uint previousShape = floatBitsToUint(loadTriangle(previousTriangle).p0.w);
+        f = bsdfOfMaterialDual(shapes[previousShape].material, previousNormal, wi, seg.dir, lane);
+      }
       float dLog = dLogOf(f) + dLogOf(dAbsCos(previousNormal, seg.dir)) + dLogOf(dAbsCos(x.normal, seg.dir)) -
                    2.0 * dLogOf(seg.len) + dLogOf(x.jacobian);
       dThroughput += throughput * dLog;
@@ -109,7 +119,7 @@ void main() {
   v.path = path;
   v.uv = uv;
   v.materialIndex = shape.material;
-  v.rayForm = depth == 1u;
+  v.rayForm = depth == 1u && kSpecCameraTypeValue == kCameraPerspective;
   v.arrivalDir = ps.direction.xyz;
   neeAtVertex(path, v, depth, pixel, sampleIndex);
 

@@ -55,36 +55,25 @@ GpuBvhNode loadBvhNode(uint i) {
   return bvhNodes3[j];
 }
 
-// Film element i: its sample sum at float 2i and sum of squares at 2i + 1 (same chunk: chunks
-// hold a power-of-two count of floats). Atomic: many paths share a pixel.
-void addToFilm(uint i, float value) {
-  uint k = 2u * i;
+// Film element i: 4 floats at 4i (see kBindingFilm), always in one chunk (chunks hold a
+// power-of-two count of floats).
+vec4 loadFilm(uint i) {
+  uint k = kFilmFloatsPerElement * i;
   uint c = k >> frame.chunkShift.z;
   uint j = k & ((1u << frame.chunkShift.z) - 1u);
-  float sq = value * value;
-  if (c == 0u) { atomicAdd(film0[j], value); atomicAdd(film0[j + 1u], sq); }
-  else if (c == 1u) { atomicAdd(film1[j], value); atomicAdd(film1[j + 1u], sq); }
-  else if (c == 2u) { atomicAdd(film2[j], value); atomicAdd(film2[j + 1u], sq); }
-  else { atomicAdd(film3[j], value); atomicAdd(film3[j + 1u], sq); }
+  if (c == 0u) return vec4(film0[j], film0[j + 1u], film0[j + 2u], film0[j + 3u]);
+  if (c == 1u) return vec4(film1[j], film1[j + 1u], film1[j + 2u], film1[j + 3u]);
+  if (c == 2u) return vec4(film2[j], film2[j + 1u], film2[j + 2u], film2[j + 3u]);
+  return vec4(film3[j], film3[j + 1u], film3[j + 2u], film3[j + 3u]);
 }
 
-vec2 loadFilm(uint i) {
-  uint k = 2u * i;
+void storeFilm(uint i, vec4 v) {
+  uint k = kFilmFloatsPerElement * i;
   uint c = k >> frame.chunkShift.z;
   uint j = k & ((1u << frame.chunkShift.z) - 1u);
-  if (c == 0u) return vec2(film0[j], film0[j + 1u]);
-  if (c == 1u) return vec2(film1[j], film1[j + 1u]);
-  if (c == 2u) return vec2(film2[j], film2[j + 1u]);
-  return vec2(film3[j], film3[j + 1u]);
-}
-
-void storeFilm(uint i, vec2 value) {
-  uint k = 2u * i;
-  uint c = k >> frame.chunkShift.z;
-  uint j = k & ((1u << frame.chunkShift.z) - 1u);
-  if (c == 0u) { film0[j] = value.x; film0[j + 1u] = value.y; }
-  else if (c == 1u) { film1[j] = value.x; film1[j + 1u] = value.y; }
-  else if (c == 2u) { film2[j] = value.x; film2[j + 1u] = value.y; }
-  else { film3[j] = value.x; film3[j + 1u] = value.y; }
+  if (c == 0u) { film0[j] = v.x; film0[j + 1u] = v.y; film0[j + 2u] = v.z; film0[j + 3u] = v.w; }
+  else if (c == 1u) { film1[j] = v.x; film1[j + 1u] = v.y; film1[j + 2u] = v.z; film1[j + 3u] = v.w; }
+  else if (c == 2u) { film2[j] = v.x; film2[j + 1u] = v.y; film2[j + 2u] = v.z; film2[j + 3u] = v.w; }
+  else { film3[j] = v.x; film3[j + 1u] = v.y; film3[j + 2u] = v.z; film3[j + 3u] = v.w; }
 }
 #endif

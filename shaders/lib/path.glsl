@@ -7,8 +7,10 @@
 // Kahan-compensated addition of a segment to the path length: lengths of many segments summed in
 // float lose the millimetres a narrow gate resolves.
 void addLength(inout float len, inout float compensation, float segment) {
-  float y = segment - compensation;
-  float t = len + y;
+  // `precise`: the compensation is algebraically zero, so a compiler free to reassociate would
+  // remove it.
+  precise float y = segment - compensation;
+  precise float t = len + y;
   compensation = (t - len) - y;
   len = t;
 }

@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "host/bench_grad.h"
 #include "host/bench_render.h"
 
 namespace vktg::cli {
@@ -13,13 +14,15 @@ const CommandSpec& benchSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "bench";
-    s.usage = "bench render [options]";
+    s.usage = "bench render|grad [options]";
     s.description =
         "Measures accuracy versus time: relMSE against an exact (confocal plane) or cached high-sample\n"
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
         "with standard and ellipsoidal NEE; paths/s, rays/s, time per pass, memory, and what the gate\n"
-        "cutoff saves. Writes bench.csv, plot.png and table.md into the output directory.";
-    s.options = {{"--out", "DIR", "run directory (default runs/bench-render); references are cached there"},
+        "cutoff saves. `bench grad`: relMSE versus time of d M / d h on the confocal plane against its exact\n"
+        "value, for standard, ellipsoidal and antithetic estimators and the boundary term, and the time of a\n"
+        "gradient relative to a render. Writes bench.csv, plot.png and table.md into the output directory.";
+    s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
                  {"--scale", "X", "multiplies every sample count (default 1; 0.25 for a quick look)"}};
@@ -36,8 +39,31 @@ int runBench(const std::vector<std::string>& argv) {
     std::cout << helpText(benchSpec());
     return 0;
   }
-  if (args.positionals.empty() || args.positionals[0] != "render")
-    throw UsageError("which benchmark? `vktg bench render` (gradient benchmarks come with `vktg grad`)");
+  if (args.positionals.empty() || (args.positionals[0] != "render" && args.positionals[0] != "grad"))
+    throw UsageError("which benchmark? `vktg bench render` or `vktg bench grad`");
+  std::string command = "vktg bench";
+  for (const auto& a : argv) command += " " + a;
+  bool quiet = args.has("--quiet");
+  auto log = [quiet](const std::string& line) {
+    if (!quiet) std::fprintf(stderr, "bench: %s\n", line.c_str());
+  };
+  if (args.positionals[0] == "grad") {
+    BenchGradOptions options;
+    if (auto out = args.get("--out")) options.outDir = *out;
+    options.runs = args.count("--runs", 1, 100).value_or(3);
+    options.ladderSteps = args.count("--steps", 0, 12).value_or(5);
+    if (auto scale = args.number("--scale")) {
+      if (!(*scale > 0 && *scale <= 64)) throw UsageError("--scale must be in (0, 64]");
+      options.scale = *scale;
+    }
+    options.memoryBudget = memoryBudget(args);
+    options.log = log;
+    auto context = makeContext(args);
+    BenchGradReport report = benchGrad(*context, options);
+    writeBenchGradReport(report, options, command);
+    log("wrote " + options.outDir.string() + "/{bench.csv,plot.png,table.md}");
+    return finishWithValidationCheck(*context, 0);
+  }
   BenchRenderOptions options;
   if (auto out = args.get("--out")) options.outDir = *out;
   options.runs = args.count("--runs", 1, 100).value_or(3);
@@ -47,12 +73,7 @@ int runBench(const std::vector<std::string>& argv) {
     options.scale = *scale;
   }
   options.memoryBudget = memoryBudget(args);
-  bool quiet = args.has("--quiet");
-  options.log = [quiet](const std::string& line) {
-    if (!quiet) std::fprintf(stderr, "bench: %s\n", line.c_str());
-  };
-  std::string command = "vktg bench";
-  for (const auto& a : argv) command += " " + a;
+  options.log = log;
   auto context = makeContext(args);
   BenchRenderReport report = benchRender(*context, options);
   writeBenchRenderReport(report, options, command);

@@ -1,7 +1,5 @@
 #include "host/bench_render.h"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,58 +7,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/bench_common.h"
 #include "host/renderer.h"
 #include "vktg/error.h"
 #include "vktg/image_io.h"
 
 namespace vktg {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-Gate gaussianGate(double mu, double sigma) {
-  Gate g;
-  g.type = GateType::Gaussian;
-  g.mu = mu;
-  g.sigma = sigma;
-  return g;
-}
-
-Gate boxGate(double a, double b) {
-  Gate g;
-  g.type = GateType::Box;
-  g.a = a;
-  g.b = b;
-  return g;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// relMSE = mean over pixels of (x - r)^2 / (r^2 + eps), eps = 1e-2 * mean(r)^2 so that dark
-// pixels do not dominate (the usual definition, made scale-free).
-double relMse(const std::vector<float>& x, const std::vector<float>& ref) {
-  double meanRef = 0;
-  for (float r : ref) meanRef += r;
-  meanRef /= double(ref.size());
-  double eps = 1e-2 * meanRef * meanRef;
-  if (ref.size() == 1) eps = 0;  // one pixel: the plain relative squared error
-  double sum = 0;
-  for (size_t i = 0; i < x.size(); ++i) {
-    double d = double(x[i]) - double(ref[i]);
-    sum += d * d / (double(ref[i]) * ref[i] + eps);
-  }
-  return sum / double(x.size());
-}
-
-double peakHostMiB() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_maxrss) / 1024.0;
-}
 
 struct BenchCase {
   std::string sceneName;
@@ -299,11 +252,7 @@ void writeBenchRenderReport(const BenchRenderReport& report, const BenchRenderOp
   md << mem;
   writeFileAtomic(options.outDir / "table.md", md.str());
 
-  std::string plot = std::string(VKTG_SOURCE_DIR) + "/tools/plot_bench.py";
-  // Debian's interpreter, where tools/setup installed matplotlib (a user's PATH may list another).
-  std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  std::string cmd = python + " '" + plot + "' '" + csvPath.string() + "' '" + (options.outDir / "plot.png").string() + "'";
-  if (std::system(cmd.c_str()) != 0 && options.log) options.log("plot skipped: python3 with matplotlib is needed");
+  plotBenchCsv(csvPath, options.outDir / "plot.png", options.log);
 }
 
 }  // namespace vktg

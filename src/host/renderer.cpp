@@ -82,9 +82,10 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
 
   const uint64_t filmElements = pixels * layers * channels;
-  // Sums and sums of squares interleaved: two floats per film element.
-  ChunkedBuffer film = allocateChunked(context, sizeof(float), 2 * filmElements, "film");
-  uint64_t filmBytes = 2 * filmElements * sizeof(float);
+  // kFilmFloatsPerElement floats per element (shift, compensated sums; see shared.h).
+  const uint64_t filmFloats = gpu::kFilmFloatsPerElement * filmElements;
+  ChunkedBuffer film = allocateChunked(context, sizeof(float), filmFloats, "film");
+  uint64_t filmBytes = filmFloats * sizeof(float);
   if (filmBytes + gpuScene.bytes >= options.memoryBudget)
     throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the film (" +
                 std::to_string(filmBytes >> 20) + " MiB) and the scene (" + std::to_string(gpuScene.bytes >> 20) +
@@ -217,8 +218,11 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
       dispatchIndirect(lanes ? "trace_shadow_rays_d" : "trace_shadow_rays", shadow, gpu::kArgsShadow);
       zeroCounter(gpu::kCounterShadow);
     }
-    pushArgs(cmd, layout, 0, 0, 0, active);
-    dispatch("accumulate", accumulate, groupsFor(uint64_t(active) * layers * frame.pathInfo.z));
+    uint64_t pathsPerPixel = (active + pixels - 1) / pixels;
+    for (uint32_t round = 0; uint64_t(round) * gpu::kPathsPerRound < pathsPerPixel; ++round) {
+      pushArgs(cmd, layout, firstLinear, round, result.stats.batches, active);
+      dispatch("accumulate", accumulate, groupsFor(filmElements));
+    }
     cmdBuffer.end();
     context.submitAndWait(cmd);
     profiler.collect();
@@ -254,16 +258,16 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   stats.deviceBytes = gpuScene.bytes + wave.bytes() + filmBytes;
   result.passMilliseconds = profiler.millisecondsPerPass();
 
-  std::vector<float> resolved(2 * filmElements), mean(filmElements), variance(filmElements);
+  std::vector<float> resolved(filmFloats), mean(filmElements), variance(filmElements);
   size_t perChunk = size_t(1) << film.shift;
   for (size_t c = 0; c < film.chunks.size(); ++c) {
     size_t first = c * perChunk;
-    size_t count = std::min<size_t>(perChunk, 2 * filmElements - first);
+    size_t count = std::min<size_t>(perChunk, filmFloats - first);
     film.chunks[c].download(context, resolved.data() + first, count * sizeof(float));
   }
   for (size_t i = 0; i < filmElements; ++i) {
-    mean[i] = resolved[2 * i];
-    variance[i] = resolved[2 * i + 1];
+    mean[i] = resolved[gpu::kFilmFloatsPerElement * i];
+    variance[i] = resolved[gpu::kFilmFloatsPerElement * i + 1];
   }
   for (ImageSet* set : {&result.mean, &result.variance}) {
     set->width = width;

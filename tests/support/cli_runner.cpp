@@ -1,4 +1,5 @@
 #include "support/cli_runner.h"
+#include "support/test_environment.h"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -58,6 +59,7 @@ std::string CliResult::describe() const {
 }
 
 CliResult runVktg(const std::vector<std::string>& args, const CliOptions& options) {
+  applyTestEnvironment();  // the child inherits the test driver selection
   std::vector<std::string> argv = {VKTG_BINARY};
   argv.insert(argv.end(), args.begin(), args.end());
   std::map<std::string, std::string> overrides = {{"VKTG_VALIDATION", "1"}};

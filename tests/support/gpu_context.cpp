@@ -1,5 +1,7 @@
 #include "support/gpu_context.h"
 
+#include "support/test_environment.h"
+
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -34,6 +36,7 @@ const bool kListenerInstalled = [] {
 VulkanContext& testContext() {
   auto& context = contextSlot();
   if (!context) {
+    applyTestEnvironment();
     ContextOptions options;
     const char* validation = std::getenv("VKTG_VALIDATION");
     options.validation = validation && std::string(validation) == "1";

@@ -80,9 +80,13 @@ VKTG_CONST(uint, kBindingShadowQueue, 17);   // ShadowRay[kShadowRaysPerPath * b
 VKTG_CONST(uint, kBindingCounters, 18);      // uint[kCounterCount]
 VKTG_CONST(uint, kBindingDispatchArgs, 19);  // uint[3 * kArgsCount]
 VKTG_CONST(uint, kBindingPathAccum, 20);     // float[(batch * layers + layer) * channels + channel], per-path sums
-// Film: element e = (channel * layers + layer) * pixels + pixel holds the sum of the samples at
-// float 2e and the sum of their squares at 2e + 1; chunks 21..24.
+// Film: element e = (channel * layers + layer) * pixels + pixel is 4 floats at 4e: a shift K (the
+// element's first sample), the Kahan-compensated sum of (x - K) and its compensation, and the sum
+// of (x - K)^2. Shifted sums keep the variance exact when it is tiny against the mean (near-delta
+// gates, antithetic pairs). resolve turns them into (mean, variance of the mean). Chunks 21..24.
 VKTG_CONST(uint, kBindingFilm, 21);
+VKTG_CONST(uint, kFilmFloatsPerElement, 4);
+VKTG_CONST(uint, kPathsPerRound, 16384);  // accumulate: paths one invocation sums per dispatch
 VKTG_CONST(uint, kBindingVertexVelocity, 25);  // vec4[lane * vertices + vertex]: dV/dθ of each lane
 VKTG_CONST(uint, kBindingLanes, 26);           // GpuLane[lanes]: what each derivative lane differentiates
 VKTG_CONST(uint, kBindingPathDerivs, 27);      // PathDerivative[path * lanes + lane]

@@ -1,0 +1,61 @@
+#include "host/bench_common.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdlib>
+
+namespace vktg {
+
+Gate gaussianGate(double mu, double sigma) {
+  Gate g;
+  g.type = GateType::Gaussian;
+  g.mu = mu;
+  g.sigma = sigma;
+  return g;
+}
+
+Gate boxGate(double a, double b) {
+  Gate g;
+  g.type = GateType::Box;
+  g.a = a;
+  g.b = b;
+  return g;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double relMse(const std::vector<float>& x, const std::vector<float>& ref) {
+  double meanRef = 0;
+  for (float r : ref) meanRef += r;
+  meanRef /= double(ref.size());
+  double eps = ref.size() == 1 ? 0.0 : 1e-2 * meanRef * meanRef;
+  double sum = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    double d = double(x[i]) - double(ref[i]);
+    sum += d * d / (double(ref[i]) * ref[i] + eps);
+  }
+  return sum / double(x.size());
+}
+
+double peakHostMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;
+}
+
+void plotBenchCsv(const std::filesystem::path& csv, const std::filesystem::path& png,
+                  const std::function<void(const std::string&)>& log) {
+  std::string plot = std::string(VKTG_SOURCE_DIR) + "/tools/plot_bench.py";
+  // Debian's interpreter, where tools/setup installed matplotlib (a user's PATH may list another).
+  std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  std::string cmd = python + " '" + plot + "' '" + csv.string() + "' '" + png.string() + "'";
+  if (std::system(cmd.c_str()) != 0 && log) log("plot skipped: python3 with matplotlib is needed");
+}
+
+}  // namespace vktg

@@ -1,0 +1,145 @@
+// Helpers of the path-length-boundary and antithetic derivative tests (grad_boundary,
+// grad_antithetic): the renderer they share, parameters added to the C++ test scenes, seed-wise
+// finite differences with common random numbers, and per-pixel comparisons whose thresholds come
+// from the measured standard errors (Sidak-corrected over every comparison of a test).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <cmath>
+#include <cstdio>
+
+#include "host/gradient.h"
+#include "support/test_scenes.h"
+#include "vktg/scene.h"
+
+namespace vktg::test {
+
+// The renderer of these tests: created after testContext() so that it is destroyed first.
+Renderer& boundaryRenderer();
+
+// Adds a parameter to a test scene (θ = 0 as built).
+void addTranslation(Scene& scene, const std::string& name, const std::string& shape, glm::vec3 axis);
+void addLightMove(Scene& scene, const std::string& name, const std::string& light, glm::vec3 axis);
+void addGateCenter(Scene& scene, const std::string& name);
+
+// An estimate of one image layer: per pixel the mean and the variance of that mean; `dof` is the
+// degrees of freedom of the variance estimate (seeds - 1 for a spread over seeds; a render's own
+// per-sample variance over many samples counts as normal: kNormalDof).
+inline constexpr double kNormalDof = 1e9;
+struct LayerEstimate {
+  std::vector<double> mean, variance;
+  double dof = kNormalDof;
+};
+LayerEstimate layerOf(const ImageSet& mean, const ImageSet& variance, uint32_t layer);
+// Pixel-wise sum of the layers (variances add: used where the layers are independent estimates or
+// where an upper bound on the variance of the sum is wanted).
+LayerEstimate sumLayers(const std::vector<LayerEstimate>& layers);
+// Sum over pixels, with the variance of that sum (pixels are independent).
+LayerEstimate sumPixels(const LayerEstimate& e);
+
+// Central finite difference (I(θ + eps) - I(θ - eps)) / (2 eps) of every gate layer over `seeds`
+// seeds: seed k renders both sides with render.seed = scene.render.seed + 1000 (k + 1) (common
+// random numbers). Mean and variance over the per-seed differences (dof seeds - 1): valid whatever
+// the correlation between the two sides, which finiteDifference's bound ignores.
+struct SeedDifference {
+  std::vector<LayerEstimate> layers;
+  uint64_t nonFinite = 0;
+  double seconds = 0;
+};
+SeedDifference seedFiniteDifference(const Scene& scene, const std::string& parameter, double eps, uint32_t seeds,
+                                    const RenderOptions& options);
+
+// P(|T| > t) for Student's t with `dof` degrees of freedom (normal from kNormalDof on) and its inverse.
+double twoSidedTail(double t, double dof);
+double twoSidedQuantile(double tail, double dof);
+// Per-test level that keeps the chance of any false rejection among `tests` tests at `alpha`.
+double sidakLevel(double alpha, size_t tests);
+
+// Per-pixel test of a against b (or an exact value: b with zero variance): t = (a - b) / sqrt(va + vb)
+// against the Student-t threshold (Welch-Satterthwaite dof) for the per-test level `level`.
+struct PixelCheck {
+  size_t tested = 0, rejected = 0;
+  double worstT = 0;
+  std::string worst;  // the pixel with the largest |t|
+};
+PixelCheck checkPixels(const LayerEstimate& a, const LayerEstimate& b, double level);
+// An exact reference; `relativeFloor` treats it as uncertain by that relative amount (one
+// standard deviation), for float32 rounding the renderer cannot resolve below.
+LayerEstimate exactLayer(const std::vector<double>& values, double relativeFloor = 0.0);
+
+// The scenes, closed forms and checks grad_boundary and grad_slow_boundary share: the confocal plane
+// (h = 1, rho = 0.8, I = 1) with a box gate, and renders that print what they compare.
+namespace boundary {
+
+inline constexpr double kRho = 0.8, kIntensity = 1.0, kHeight = 1.0, kAlpha = 1e-3;
+inline constexpr uint32_t kFdSeeds = 16;
+inline constexpr uint32_t kPerspectiveResolution = 16, kPerspectiveSpp = 1024;
+
+struct BoxTerms {
+  double total, interior, boundary;
+};
+
+// d/dh of the confocal box response and its split (derivation at the top of tests/grad_boundary.cpp).
+inline BoxTerms confocalBoxDh(double h, double a, double b) {
+  double d1 = 0.5 * a, d2 = 0.5 * b;
+  double p5 = std::pow(d1, -5.0) - std::pow(d2, -5.0), p7 = std::pow(d1, -7.0) - std::pow(d2, -7.0);
+  BoxTerms t;
+  t.total = 1.2 * kRho * kIntensity * h * h * p5;
+  t.interior = 2.0 * kRho * kIntensity * (0.6 * h * h * p5 - std::pow(h, 4.0) * p7);
+  t.boundary = 2.0 * kRho * kIntensity * std::pow(h, 4.0) * p7;
+  return t;
+}
+
+inline double confocalBoxDc(double h, double a, double b) {
+  return -kRho * kIntensity * h * h * h * (std::pow(0.5 * a, -6.0) - std::pow(0.5 * b, -6.0));
+}
+
+// A checked comparison of one named estimate (every pixel) against a reference.
+struct Checker {
+  double level;
+  void expect(const char* what, const LayerEstimate& a, const LayerEstimate& b) const {
+    PixelCheck c = checkPixels(a, b, level);
+    EXPECT_EQ(c.rejected, 0u) << what << ": " << c.rejected << " of " << c.tested << " pixels differ; worst " << c.worst;
+    std::printf("  %-44s worst %s\n", what, c.worst.c_str());
+  }
+};
+
+inline Scene confocalBoxScene(double a, double b, uint32_t spp, uint32_t seed) {
+  Scene scene = confocalPlaneScene(kHeight, 2.0, 2.0, kRho, kIntensity);
+  scene.gate.type = GateType::Box;
+  scene.gate.a = a;
+  scene.gate.b = b;
+  scene.render.spp = spp;
+  scene.render.seed = seed;
+  scene.render.maxDepth = 2;
+  addTranslation(scene, "t", "plane", {0.0f, 0.0f, 1.0f});
+  addGateCenter(scene, "c");
+  return scene;
+}
+
+inline GradientResult gradient(const Scene& scene, const std::vector<std::string>& parameters, NeeMode nee,
+                        uint32_t sppBoundary = 0) {
+  GradientOptions options;
+  options.render.nee = nee;
+  options.sppBoundary = sppBoundary;
+  GradientResult g = renderGradient(boundaryRenderer(), scene, parameters, options);
+  EXPECT_EQ(g.stats.nonFinite, 0u);
+  std::printf("  gradient (%s nee, %zu parameters): %.2f s\n", neeModeName(g.primal.plan.nee), parameters.size(),
+              g.stats.seconds);
+  return g;
+}
+
+inline LayerEstimate term(const TermImages& t, size_t parameter, uint32_t layer = 0) {
+  return layerOf(t.derivatives.at(parameter), t.variances.at(parameter), layer);
+}
+
+// Box gate [2.4, 3.2] at h = 1: sensor distances d in [1.2, 1.6], inside the plane's inscribed
+// disk (radius 2 > sqrt(1.6^2 - 1)), so the infinite-plane closed forms hold.
+inline constexpr double kBoxA = 2.4, kBoxB = 3.2;
+
+}  // namespace boundary
+
+}  // namespace vktg::test
