@@ -376,3 +376,30 @@ TEST_F(CliBadInput, UnknownNeeMode) {
 
 }  // namespace
 }  // namespace vktg::test
+
+namespace vktg::test {
+
+// EXR inputs (`vktg inspect` reads outputs back): missing, empty, garbage and truncated files.
+TEST_F(CliBadInput, MissingExr) {
+  expectCleanFailure({"inspect", (m_dir / "nowhere.exr").string()}, {"nowhere.exr"});
+}
+
+TEST_F(CliBadInput, GarbageExr) {
+  fs::path exr = m_dir / "garbage.exr";
+  writeFileBytes(exr, "this is not an OpenEXR file\n");
+  expectCleanFailure({"inspect", exr.string()}, {"garbage.exr", "OpenEXR"});
+}
+
+TEST_F(CliBadInput, TruncatedExr) {
+  // A real output cut in half.
+  fs::path scene = writeScene(baseScene());
+  fs::path whole = m_dir / "whole.exr";
+  CliResult r = runVktg({"render", scene.string(), "--quiet", "--spp", "1", "--out", whole.string()}, {.cwd = m_dir.path()});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  std::string bytes = readFileBytes(whole);
+  fs::path cut = m_dir / "cut.exr";
+  writeFileBytes(cut, bytes.substr(0, bytes.size() / 2));
+  expectCleanFailure({"inspect", cut.string()}, {"cut.exr"});
+}
+
+}  // namespace vktg::test
