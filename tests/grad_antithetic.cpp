@@ -57,7 +57,7 @@ Estimates render(const Scene& scene, AntitheticMode mode) {
   GradientOptions options;
   options.render.nee = NeeMode::Ellipsoidal;
   options.antithetic = mode;
-  GradientResult g = renderGradient(boundaryRenderer(), scene, {"t", "c"}, options);
+  GradientResult g = renderGradient(testRenderer(), scene, {"t", "c"}, options);
   EXPECT_EQ(g.stats.nonFinite, 0u);
   EXPECT_EQ(g.plan.antithetic, mode == AntitheticMode::On);
   EXPECT_FALSE(g.plan.pathLength) << "a gaussian gate has no jumps";

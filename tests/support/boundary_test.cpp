@@ -1,5 +1,7 @@
 #include "support/boundary_test.h"
 
+#include "support/grad_test.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -10,14 +12,6 @@
 #include "support/test_scenes.h"
 
 namespace vktg::test {
-
-Renderer& boundaryRenderer() {
-  // The context must outlive the renderer: create it first so that it is destroyed last.
-  VulkanContext& context = testContext();
-  static std::unique_ptr<Renderer> renderer;
-  if (!renderer) renderer = std::make_unique<Renderer>(context);
-  return *renderer;
-}
 
 void addTranslation(Scene& scene, const std::string& name, const std::string& shape, glm::vec3 axis) {
   Parameter p;
@@ -84,8 +78,8 @@ SeedDifference seedFiniteDifference(const Scene& scene, const std::string& param
   std::vector<std::vector<std::vector<double>>> perSeed;  // [seed][layer][pixel]
   for (uint32_t k = 0; k < seeds; ++k) {
     plus.render.seed = minus.render.seed = scene.render.seed + 1000 * (k + 1);
-    RenderResult p = boundaryRenderer().render(plus, options);
-    RenderResult m = boundaryRenderer().render(minus, options);
+    RenderResult p = testRenderer().render(plus, options);
+    RenderResult m = testRenderer().render(minus, options);
     out.nonFinite += p.stats.nonFinite + m.stats.nonFinite;
     out.seconds += p.stats.seconds + m.stats.seconds;
     std::vector<std::vector<double>> d(p.mean.layers.size());
@@ -117,29 +111,6 @@ SeedDifference seedFiniteDifference(const Scene& scene, const std::string& param
   return out;
 }
 
-double twoSidedTail(double t, double dof) {
-  t = std::abs(t);
-  if (dof >= kNormalDof) return std::erfc(t / std::sqrt(2.0));
-  // 1 - 2 * integral_0^t of the density: double precision keeps tails down to ~1e-14.
-  double logNorm = std::lgamma(0.5 * (dof + 1)) - std::lgamma(0.5 * dof) - 0.5 * std::log(dof * M_PI);
-  auto density = [&](double x) { return std::exp(logNorm - 0.5 * (dof + 1) * std::log1p(x * x / dof)); };
-  return std::max(0.0, 1.0 - 2.0 * integrate(density, 0.0, t, 64));
-}
-
-double twoSidedQuantile(double tail, double dof) {
-  double lo = 0, hi = 1;
-  while (twoSidedTail(hi, dof) > tail) hi *= 2;
-  for (int i = 0; i < 100; ++i) {
-    double mid = 0.5 * (lo + hi);
-    if (twoSidedTail(mid, dof) > tail) lo = mid; else hi = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
-double sidakLevel(double alpha, size_t tests) {
-  return -std::expm1(std::log1p(-alpha) / double(std::max<size_t>(tests, 1)));
-}
-
 namespace {
 
 // The t threshold at floor(dof) (fewer degrees of freedom: a slightly larger, conservative
@@ -150,7 +121,7 @@ double thresholdFor(double level, double dof) {
   auto key = std::make_pair(level, d);
   auto it = cache.find(key);
   if (it != cache.end()) return it->second;
-  return cache[key] = twoSidedQuantile(level, d);
+  return cache[key] = studentTwoSidedQuantile(level, d);
 }
 
 }  // namespace

@@ -12,13 +12,13 @@
 #include <cstdio>
 
 #include "host/gradient.h"
+#include "support/chi2.h"
+#include "support/render_test.h"
 #include "support/test_scenes.h"
 #include "vktg/scene.h"
 
 namespace vktg::test {
 
-// The renderer of these tests: created after testContext() so that it is destroyed first.
-Renderer& boundaryRenderer();
 
 // Adds a parameter to a test scene (θ = 0 as built).
 void addTranslation(Scene& scene, const std::string& name, const std::string& shape, glm::vec3 axis);
@@ -52,11 +52,6 @@ struct SeedDifference {
 SeedDifference seedFiniteDifference(const Scene& scene, const std::string& parameter, double eps, uint32_t seeds,
                                     const RenderOptions& options);
 
-// P(|T| > t) for Student's t with `dof` degrees of freedom (normal from kNormalDof on) and its inverse.
-double twoSidedTail(double t, double dof);
-double twoSidedQuantile(double tail, double dof);
-// Per-test level that keeps the chance of any false rejection among `tests` tests at `alpha`.
-double sidakLevel(double alpha, size_t tests);
 
 // Per-pixel test of a against b (or an exact value: b with zero variance): t = (a - b) / sqrt(va + vb)
 // against the Student-t threshold (Welch-Satterthwaite dof) for the per-test level `level`.
@@ -125,7 +120,7 @@ inline GradientResult gradient(const Scene& scene, const std::vector<std::string
   GradientOptions options;
   options.render.nee = nee;
   options.sppBoundary = sppBoundary;
-  GradientResult g = renderGradient(boundaryRenderer(), scene, parameters, options);
+  GradientResult g = renderGradient(testRenderer(), scene, parameters, options);
   EXPECT_EQ(g.stats.nonFinite, 0u);
   std::printf("  gradient (%s nee, %zu parameters): %.2f s\n", neeModeName(g.primal.plan.nee), parameters.size(),
               g.stats.seconds);

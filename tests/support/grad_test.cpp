@@ -77,21 +77,13 @@ double cosPowerIntegral(double from, double to, double dof) {
 
 }  // namespace
 
-Renderer& gradTestRenderer() {
-  // The context must outlive the renderer: create it first so that it is destroyed last.
-  VulkanContext& context = testContext();
-  static std::unique_ptr<Renderer> renderer;
-  if (!renderer) renderer = std::make_unique<Renderer>(context);
-  return *renderer;
-}
-
 GradientImages gradientInTest(const Scene& scene, const std::vector<std::string>& parameters, const RenderOptions& options) {
   GradientOptions gradient;
   gradient.render = options;
   gradient.interior = true;
   gradient.pathLength = false;
   gradient.antithetic = AntitheticMode::Off;
-  GradientResult r = renderGradient(gradTestRenderer(), scene, parameters, gradient);
+  GradientResult r = renderGradient(testRenderer(), scene, parameters, gradient);
   // Each pixel's variance is the sample variance of its spp samples.
   double dof = double(scene.render.spp) - 1.0;
   GradientImages images;
@@ -110,13 +102,13 @@ FiniteDifferenceImages finiteDifferenceInTest(const Scene& scene, const std::str
   for (uint32_t k = 0; k < seeds; ++k) {
     Scene seeded = scene;
     seeded.render.seed = scene.render.seed + k + 1;
-    FiniteDifferenceResult fd = finiteDifference(gradTestRenderer(), seeded, parameter, eps, options);
+    FiniteDifferenceResult fd = finiteDifference(testRenderer(), seeded, parameter, eps, options);
     result.seconds += fd.stats.seconds;
     result.nonFinite += fd.stats.nonFinite;
     std::vector<double> d = toDouble(fd.derivative.layers.at(0).pixels);
     full.add(d);
     if (halfStep) {
-      FiniteDifferenceResult h = finiteDifference(gradTestRenderer(), seeded, parameter, 0.5 * eps, options);
+      FiniteDifferenceResult h = finiteDifference(testRenderer(), seeded, parameter, 0.5 * eps, options);
       result.seconds += h.stats.seconds;
       result.nonFinite += h.stats.nonFinite;
       std::vector<double> diff = toDouble(h.derivative.layers.at(0).pixels);

@@ -7,13 +7,11 @@
 #include <vector>
 
 #include "host/gradient.h"
+#include "support/render_test.h"
 #include "vktg/gate.h"
 #include "vktg/scene.h"
 
 namespace vktg::test {
-
-// The renderer of the grad tests: created after testContext() so that it is destroyed first.
-Renderer& gradTestRenderer();
 
 // An image estimate: per pixel the mean and the variance of that mean, with the degrees of
 // freedom of the variance estimate (samples - 1; large for a render's own per-sample variance).

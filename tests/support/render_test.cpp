@@ -21,13 +21,15 @@ double twoSidedZ(double p) {
 
 }  // namespace
 
-RenderResult renderInTest(const Scene& scene, const RenderOptions& options) {
+Renderer& testRenderer() {
   // The context must outlive the renderer: create it first so that it is destroyed last.
   VulkanContext& context = testContext();
   static std::unique_ptr<Renderer> renderer;
   if (!renderer) renderer = std::make_unique<Renderer>(context);
-  return renderer->render(scene, options);
+  return *renderer;
 }
+
+RenderResult renderInTest(const Scene& scene, const RenderOptions& options) { return testRenderer().render(scene, options); }
 
 ZTestResult zTest(const std::vector<float>& a, const std::vector<float>& aVariance, const std::vector<float>& b,
                   const std::vector<float>& bVariance, double alpha) {

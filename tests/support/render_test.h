@@ -9,7 +9,10 @@
 
 namespace vktg::test {
 
-// Renders with the test context (one Renderer reused by the whole test binary).
+// The test binary's one Renderer, on the test context (created after the context, so destroyed
+// before it).
+Renderer& testRenderer();
+// Renders with testRenderer().
 RenderResult renderInTest(const Scene& scene, const RenderOptions& options = {});
 
 // Per-pixel two-sided z-test of `a` against `b` (each with the variance of its mean; `bVariance`
