@@ -121,6 +121,8 @@ int runGrad(const std::vector<std::string>& argv) {
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "grad");
   checkOutputPath(exr, {args.positionals[0]});
+  for (const char* term : {".interior.exr", ".pathlength.exr", ".npy"})
+    checkOutputPath(withExtension(exr, term), {args.positionals[0]});
   auto context = makeContext(args);
   Renderer renderer(*context);
   options.progress = makeProgress("grad", quiet);
@@ -136,8 +138,7 @@ int runGrad(const std::vector<std::string>& argv) {
     for (const auto& [term, images] : {std::pair<const char*, const TermImages*>{"interior", &result.interior},
                                        std::pair<const char*, const TermImages*>{"pathlength", &result.pathLength}}) {
       if (images->derivatives.empty()) continue;
-      std::filesystem::path split = exr;
-      split.replace_extension(std::string(".") + term + ".exr");
+      std::filesystem::path split = withExtension(exr, std::string(".") + term + ".exr");
       writeExr(split, derivativeLayers(names, images->derivatives));
       if (!quiet) std::fprintf(stderr, "vktg: wrote %s\n", split.string().c_str());
     }
