@@ -216,3 +216,36 @@ TEST(HardRender, GrazingLightAndSensor) {
 
 }  // namespace
 }  // namespace vktg::test
+
+namespace vktg::test {
+
+// Degenerate geometry beside the confocal plane: a triangle whose vertices coincide, a collinear
+// sliver and a 1e-7 m triangle, all in the plane's surface and in the gate's reach. Zero-area
+// triangles can never be hit, sampled or met by an ellipsoid, and the tiny one covers 1e-14 m^2:
+// the response must stay the plane's, finite, with both estimators (the ellipsoid query clips
+// conics against every one of them).
+TEST(HardRender, DegenerateAndTinyTriangles) {
+  const double h = 1.0, a = 2.2, b = 2.6;
+  Scene scene = confocalPlaneScene(h, 2.0, 2.0, kRho, 1.0);
+  scene.gate.type = GateType::Box;
+  scene.gate.a = a;
+  scene.gate.b = b;
+  Shape debris;
+  debris.name = "debris";
+  debris.material = scene.shapes.at(0).material;
+  glm::vec3 p(0.4f, 0.3f, 0.0f);
+  debris.positions = {p, p, p,                                                        // coincident
+                      {0.5f, 0.0f, 0.0f}, {0.6f, 0.0f, 0.0f}, {0.7f, 0.0f, 0.0f},     // collinear
+                      {0.45f, 0.45f, 0.0f}, {0.45f + 1e-7f, 0.45f, 0.0f}, {0.45f, 0.45f + 1e-7f, 0.0f}};
+  debris.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+  scene.shapes.push_back(debris);
+  double reference = confocalBox(h, kRho, 1.0, a, b);
+  scene.render.spp = 20000;
+  scene.render.seed = 650;
+  expectPointSensor(scene, NeeMode::Ellipsoidal, reference, "degenerate triangles");
+  scene.render.spp = 100000;
+  scene.render.seed = 651;
+  expectPointSensor(scene, NeeMode::Standard, reference, "degenerate triangles");
+}
+
+}  // namespace vktg::test
