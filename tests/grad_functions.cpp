@@ -44,6 +44,7 @@
 #include "support/bsdf_reference.h"
 #include "support/dual_reference.h"
 #include "support/gpu_test.h"
+#include "support/test_gates.h"
 #include "vktg/gate.h"
 
 namespace vktg::test {
@@ -375,35 +376,10 @@ TEST(GradFunctions, GeometryMatchesFiniteDifferencesAndReintersection) {
 
 // ---- Gates ----------------------------------------------------------------------------------------
 
-struct GateCase {
-  const char* name;
-  Gate gate;
-};
-void PrintTo(const GateCase& c, std::ostream* os) { *os << c.name; }
-
-// Dyadic gate numbers: the kernel's float gate equals the CPU's double one.
 std::vector<GateCase> gateCases() {
-  Gate gaussian, normalised, box, tgauss, bins, steady;
-  gaussian.type = GateType::Gaussian;
-  gaussian.mu = 4.25;
-  gaussian.sigma = 0.125;
-  normalised = gaussian;
-  normalised.normalize = true;
-  normalised.sigma = 0.5;
-  box.type = GateType::Box;
-  box.a = 3.0;
-  box.b = 5.5;
-  tgauss.type = GateType::TruncatedGaussian;
-  tgauss.mu = 4.0;
-  tgauss.sigma = 0.5;
-  tgauss.a = 3.5;
-  tgauss.b = 5.0;
-  bins.type = GateType::Bins;
-  bins.binStart = 3.0;
-  bins.binWidth = 0.25;
-  bins.binCount = 8;
-  return {{"gaussian", gaussian}, {"gaussian_normalised", normalised}, {"box", box},
-          {"truncated_gaussian", tgauss}, {"bins", bins}, {"steady", steady}};
+  std::vector<GateCase> cases = representativeGates();
+  cases.push_back({"steady", Gate{}});
+  return cases;
 }
 
 // The kernel only needs the gate; uploading a scene needs one shape and one emitter.

@@ -17,6 +17,7 @@
 
 #include "support/chi2.h"
 #include "support/gpu_test.h"
+#include "support/test_gates.h"
 #include "vktg/gate.h"
 
 namespace vktg::test {
@@ -37,43 +38,11 @@ constexpr int kGateCases = 6;  // the chi-square tests below share one false-fai
 // Two-sided normal quantile for 1e-4 per comparison of a mean with its expectation.
 constexpr double kMeanZ = 3.89;
 
-struct GateCase {
-  const char* name;
-  Gate gate;
-};
-// Test names print the case's name rather than its bytes.
-void PrintTo(const GateCase& c, std::ostream* os) { *os << c.name; }
-
-Gate gaussian(double mu, double sigma, bool normalize) {
-  Gate g;
-  g.type = GateType::Gaussian;
-  g.mu = mu;
-  g.sigma = sigma;
-  g.normalize = normalize;
-  return g;
-}
-
 std::vector<GateCase> gateCases() {
-  Gate box, tgauss, bins;
-  box.type = GateType::Box;
-  box.a = 3.0;
-  box.b = 5.5;
-  tgauss.type = GateType::TruncatedGaussian;
-  tgauss.mu = 4.0;
-  tgauss.sigma = 0.5;
-  tgauss.a = 3.5;
-  tgauss.b = 5.0;
-  bins.type = GateType::Bins;
-  bins.binStart = 3.0;
-  bins.binWidth = 0.25;
-  bins.binCount = 8;
-  return {{"gaussian", gaussian(4.25, 0.125, false)},
-          {"gaussian_normalised", gaussian(4.25, 0.125, true)},
-          // mu < 6.5 sigma: the sampler draws negative lengths, which no path has.
-          {"gaussian_near_zero", gaussian(0.5, 0.25, false)},
-          {"box", box},
-          {"truncated_gaussian", tgauss},
-          {"bins", bins}};
+  std::vector<GateCase> cases = representativeGates();
+  // mu < 6.5 sigma: the sampler draws negative lengths, which no path has.
+  cases.push_back({"gaussian_near_zero", gaussianGateCase(0.5, 0.25, false)});
+  return cases;
 }
 
 // The scene only carries the gate to the GPU; uploading needs one shape and one emitter.

@@ -47,25 +47,8 @@ int runBench(const std::vector<std::string>& argv) {
   auto log = [quiet](const std::string& line) {
     if (!quiet) std::fprintf(stderr, "bench: %s\n", line.c_str());
   };
-  if (args.positionals[0] == "grad") {
-    BenchGradOptions options;
-    if (auto out = args.get("--out")) options.outDir = *out;
-    options.runs = args.count("--runs", 1, 100).value_or(3);
-    options.ladderSteps = args.count("--steps", 0, 12).value_or(5);
-    if (auto scale = args.number("--scale")) {
-      if (!(*scale > 0 && *scale <= 64)) throw UsageError("--scale must be in (0, 64]");
-      options.scale = *scale;
-    }
-    options.memoryBudget = memoryBudget(args);
-    options.log = log;
-    auto context = makeContext(args);
-    BenchGradReport report = benchGrad(*context, options);
-    writeBenchGradReport(report, options, command);
-    log("wrote " + options.outDir.string() + "/{bench.csv,plot.png,table.md}");
-    return finishWithValidationCheck(*context, 0);
-  }
-  BenchRenderOptions options;
-  if (auto out = args.get("--out")) options.outDir = *out;
+  BenchOptions options;
+  options.outDir = args.get("--out").value_or(args.positionals[0] == "grad" ? "runs/bench-grad" : "runs/bench-render");
   options.runs = args.count("--runs", 1, 100).value_or(3);
   options.ladderSteps = args.count("--steps", 0, 12).value_or(5);
   if (auto scale = args.number("--scale")) {
@@ -75,9 +58,11 @@ int runBench(const std::vector<std::string>& argv) {
   options.memoryBudget = memoryBudget(args);
   options.log = log;
   auto context = makeContext(args);
-  BenchRenderReport report = benchRender(*context, options);
-  writeBenchRenderReport(report, options, command);
-  if (!quiet) std::fprintf(stderr, "bench: wrote %s/{bench.csv,plot.png,table.md}\n", options.outDir.string().c_str());
+  if (args.positionals[0] == "grad")
+    writeBenchGradReport(benchGrad(*context, options), options, command);
+  else
+    writeBenchRenderReport(benchRender(*context, options), options, command);
+  log("wrote " + options.outDir.string() + "/{bench.csv,plot.png,table.md}");
   return finishWithValidationCheck(*context, 0);
 }
 

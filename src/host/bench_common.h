@@ -1,6 +1,7 @@
 // Pieces the benchmarks share: gates by name, medians, relMSE, peak memory, and the plot script.
 #pragma once
 #include <filesystem>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -8,6 +9,16 @@
 #include "vktg/gate.h"
 
 namespace vktg {
+
+// Settings shared by `vktg bench render` and `vktg bench grad`.
+struct BenchOptions {
+  std::filesystem::path outDir;  // run directory (references are cached there)
+  uint32_t runs = 3;             // repetitions per point (medians are reported)
+  uint32_t ladderSteps = 5;      // spp doubles this many times from the base
+  double scale = 1.0;            // multiplies every spp (quick runs use < 1)
+  uint64_t memoryBudget = 512ull << 20;
+  std::function<void(const std::string&)> log;
+};
 
 Gate gaussianGate(double mu, double sigma);
 Gate boxGate(double a, double b);

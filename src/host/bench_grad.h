@@ -6,18 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "host/bench_common.h"
 #include "host/vk_context.h"
 
 namespace vktg {
 
-struct BenchGradOptions {
-  std::filesystem::path outDir = "runs/bench-grad";
-  uint32_t runs = 3;
-  uint32_t ladderSteps = 5;
-  double scale = 1.0;
-  uint64_t memoryBudget = 512ull << 20;
-  std::function<void(const std::string&)> log;
-};
+using BenchGradOptions = BenchOptions;
 
 struct BenchGradPoint {
   std::string scene, gate, estimator;

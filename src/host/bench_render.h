@@ -6,19 +6,13 @@
 #include <string>
 #include <vector>
 
+#include "host/bench_common.h"
 #include "host/vk_context.h"
 #include "vktg/scene.h"
 
 namespace vktg {
 
-struct BenchRenderOptions {
-  std::filesystem::path outDir = "runs/bench-render";
-  uint32_t runs = 3;             // repetitions per point (medians are reported)
-  uint32_t ladderSteps = 5;      // spp doubles this many times from the base
-  double scale = 1.0;            // multiplies every spp (quick runs use < 1)
-  uint64_t memoryBudget = 512ull << 20;
-  std::function<void(const std::string&)> log;
-};
+using BenchRenderOptions = BenchOptions;
 
 struct BenchRenderPoint {
   std::string scene, gate, estimator;

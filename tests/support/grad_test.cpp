@@ -57,7 +57,7 @@ struct SeedAccumulator {
   }
 };
 
-std::vector<double> toDouble(const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); }
+std::vector<double> asDoubles(const std::vector<float>& v) { return std::vector<double>(v.begin(), v.end()); }
 
 // Welch-Satterthwaite degrees of freedom of va + vb.
 double welchDof(double va, double dofA, double vb, double dofB) {
@@ -105,13 +105,13 @@ FiniteDifferenceImages finiteDifferenceInTest(const Scene& scene, const std::str
     FiniteDifferenceResult fd = finiteDifference(testRenderer(), seeded, parameter, eps, options);
     result.seconds += fd.stats.seconds;
     result.nonFinite += fd.stats.nonFinite;
-    std::vector<double> d = toDouble(fd.derivative.layers.at(0).pixels);
+    std::vector<double> d = asDoubles(fd.derivative.layers.at(0).pixels);
     full.add(d);
     if (halfStep) {
       FiniteDifferenceResult h = finiteDifference(testRenderer(), seeded, parameter, 0.5 * eps, options);
       result.seconds += h.stats.seconds;
       result.nonFinite += h.stats.nonFinite;
-      std::vector<double> diff = toDouble(h.derivative.layers.at(0).pixels);
+      std::vector<double> diff = asDoubles(h.derivative.layers.at(0).pixels);
       for (size_t i = 0; i < diff.size(); ++i) diff[i] = d[i] - diff[i];
       half.add(diff);
     }
@@ -185,7 +185,7 @@ Comparison compare(const PixelEstimate& a, const std::vector<double>& b, const s
 }  // namespace
 
 Comparison compareEstimates(const PixelEstimate& a, const PixelEstimate& b, double alpha) {
-  return compare(a, toDouble(b.mean), &b.variance, b.dof, alpha);
+  return compare(a, asDoubles(b.mean), &b.variance, b.dof, alpha);
 }
 
 Comparison compareWithExact(const PixelEstimate& a, const std::vector<double>& exact, double alpha) {

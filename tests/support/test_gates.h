@@ -1,0 +1,22 @@
+// The gates the gate tests run over: one of each kind, with dyadic numbers so a kernel's float
+// gate equals the CPU's double one.
+#pragma once
+#include <ostream>
+#include <vector>
+
+#include "vktg/gate.h"
+
+namespace vktg::test {
+
+struct GateCase {
+  const char* name;
+  Gate gate;
+};
+// Test names print the case's name rather than its bytes.
+inline void PrintTo(const GateCase& c, std::ostream* os) { *os << c.name; }
+
+Gate gaussianGateCase(double mu, double sigma, bool normalize);
+// gaussian, gaussian_normalised, box, truncated_gaussian, bins.
+std::vector<GateCase> representativeGates();
+
+}  // namespace vktg::test
