@@ -382,20 +382,6 @@ std::vector<GateCase> gateCases() {
   return cases;
 }
 
-// The kernel only needs the gate; uploading a scene needs one shape and one emitter.
-Scene sceneWithGate(const Gate& gate) {
-  Scene scene;
-  scene.materials.push_back({});
-  Shape tri;
-  tri.name = "tri";
-  tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  tri.triangles = {{0, 1, 2}};
-  scene.shapes.push_back(tri);
-  scene.pointLights.push_back({"light", glm::vec3(0, 0, 2), 1.0f});
-  scene.gate = gate;
-  return scene;
-}
-
 class GradGate : public ::testing::TestWithParam<GateCase> {};
 
 TEST_P(GradGate, WeightDerivativesMatchFiniteDifferences) {

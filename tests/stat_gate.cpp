@@ -45,20 +45,6 @@ std::vector<GateCase> gateCases() {
   return cases;
 }
 
-// The scene only carries the gate to the GPU; uploading needs one shape and one emitter.
-Scene sceneWithGate(const Gate& gate) {
-  Scene scene;
-  scene.materials.push_back({});
-  Shape tri;
-  tri.name = "tri";
-  tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  tri.triangles = {{0, 1, 2}};
-  scene.shapes.push_back(tri);
-  scene.pointLights.push_back({"light", glm::vec3(0, 0, 2), 1.0f});
-  scene.gate = gate;
-  return scene;
-}
-
 // u in [0, 1) with 24 random bits, like the renderer's float random numbers.
 float uniform01(std::mt19937& rng) { return float(rng() >> 8) * (1.0f / 16777216.0f); }
 

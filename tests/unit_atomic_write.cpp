@@ -11,39 +11,22 @@
 #include <thread>
 
 #include "vktg/error.h"
+#include "support/file_test.h"
 #include "vktg/image_io.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string readAll(const fs::path& path) {
-  std::ifstream stream(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
-}
-
-void writePlain(const fs::path& path, const std::string& bytes) {
-  std::ofstream stream(path, std::ios::binary);
-  stream << bytes;
-}
+using vktg::test::expectError;
+using vktg::test::readAll;
+using vktg::test::writePlain;
 
 std::vector<std::string> listDirectory(const fs::path& directory) {
   std::vector<std::string> names;
   for (const auto& entry : fs::directory_iterator(directory)) names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
-}
-
-// Runs `body`, expecting a vktg::Error whose message contains every string in `parts`.
-template <typename Body>
-void expectError(Body body, const std::vector<std::string>& parts) {
-  try {
-    body();
-    FAIL() << "expected vktg::Error";
-  } catch (const vktg::Error& error) {
-    for (const std::string& part : parts) EXPECT_NE(std::string(error.what()).find(part), std::string::npos)
-        << "message '" << error.what() << "' lacks '" << part << "'";
-  }
 }
 
 class AtomicWrite : public ::testing::Test {

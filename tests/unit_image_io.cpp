@@ -23,32 +23,16 @@
 #include <random>
 
 #include "vktg/error.h"
+#include "support/file_test.h"
 #include "vktg/image_io.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string readAll(const fs::path& path) {
-  std::ifstream stream(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
-}
-
-void writePlain(const fs::path& path, const std::string& bytes) {
-  std::ofstream stream(path, std::ios::binary);
-  stream << bytes;
-}
-
-template <typename Body>
-void expectError(Body body, const std::vector<std::string>& parts) {
-  try {
-    body();
-    FAIL() << "expected vktg::Error";
-  } catch (const vktg::Error& error) {
-    for (const std::string& part : parts) EXPECT_NE(std::string(error.what()).find(part), std::string::npos)
-        << "message '" << error.what() << "' lacks '" << part << "'";
-  }
-}
+using vktg::test::expectError;
+using vktg::test::readAll;
+using vktg::test::writePlain;
 
 bool bitwiseEqual(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;

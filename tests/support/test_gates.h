@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "vktg/gate.h"
+#include "vktg/scene.h"
 
 namespace vktg::test {
 
@@ -18,5 +19,7 @@ inline void PrintTo(const GateCase& c, std::ostream* os) { *os << c.name; }
 Gate gaussianGateCase(double mu, double sigma, bool normalize);
 // gaussian, gaussian_normalised, box, truncated_gaussian, bins.
 std::vector<GateCase> representativeGates();
+// The smallest scene that carries `gate` to the GPU (uploading needs one shape and one emitter).
+Scene sceneWithGate(const Gate& gate);
 
 }  // namespace vktg::test

@@ -1,0 +1,39 @@
+// Helpers of the CPU-only file tests (header-only: `unit` tests link no test-support library).
+#pragma once
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "vktg/error.h"
+
+namespace vktg::test {
+
+inline std::string readAll(const std::filesystem::path& path) {
+  std::ifstream stream(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(stream)), std::istreambuf_iterator<char>());
+}
+
+// Writes without vktg's atomic writer (the tests set up files the code under test then reads).
+inline void writePlain(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream stream(path, std::ios::binary);
+  stream << bytes;
+}
+
+// Runs `body`, expecting a vktg::Error whose message contains every string in `parts`.
+template <typename Body>
+void expectError(Body body, const std::vector<std::string>& parts) {
+  try {
+    body();
+    FAIL() << "expected vktg::Error";
+  } catch (const vktg::Error& error) {
+    for (const std::string& part : parts)
+      EXPECT_NE(std::string(error.what()).find(part), std::string::npos)
+          << "message '" << error.what() << "' lacks '" << part << "'";
+  }
+}
+
+}  // namespace vktg::test
