@@ -66,6 +66,7 @@ void main() {
     v.materialIndex = 0u;
     v.rayForm = false;
     v.arrivalDir = n;
+    v.firstEllipsoidVertex = frame.pathInfo.y;
     neeAtVertex(i, v, 0u, pixel, sampleIndex);
   }
   paths[i] = ps;

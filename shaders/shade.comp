@@ -76,11 +76,16 @@ void main() {
     pathDerivs[slot] = pd;
   }
 #endif
-  if (kSpecTermValue == kTermInterior && shape.emission > 0.0 && dot(sp.normal, wi) > 0.0 && emitterHitCounts(depth)) {
+  uint firstEllipsoid = pathFirstEllipsoidVertex(ps);
+  if (kSpecTermValue == kTermInterior && shape.emission > 0.0 && dot(sp.normal, wi) > 0.0 &&
+      emitterHitCounts(depth, firstEllipsoid) && (ps.ids.w & kPathFlagNoArrivalEmission) == 0u) {
     // MIS against the standard NEE of the previous vertex, when that vertex did one (the
-    // pinhole never does; the point sensor does).
+    // pinhole never does; the point sensor does). A hit an edge pass placed at the end of its
+    // boundary segment is the only way its paths reach this emitter: no MIS.
     uint previous = depth - 1u;
-    bool previousDidNee = (previous > 0u || kSpecCameraTypeValue == kCameraPointSensor) && standardNeeAt(previous);
+    bool edgeArrival = (ps.ids.w & kPathFlagEdgeArrival) != 0u;
+    bool previousDidNee = !edgeArrival && (previous > 0u || kSpecCameraTypeValue == kCameraPointSensor) &&
+                          standardNeeAt(previous, firstEllipsoid);
     float mis = 1.0;
     if (previousDidNee) {
       float dist = distance(ps.position.xyz, sp.position);
@@ -121,6 +126,7 @@ void main() {
   v.materialIndex = shape.material;
   v.rayForm = depth == 1u && kSpecCameraTypeValue == kCameraPerspective;
   v.arrivalDir = ps.direction.xyz;
+  v.firstEllipsoidVertex = firstEllipsoid;
   neeAtVertex(path, v, depth, pixel, sampleIndex);
 
   // gateInfo.w (max depth) is the most segments a path may have: NEE here made depth + 1.
@@ -160,6 +166,7 @@ void main() {
   ps.normal = vec4(sp.normal, throughput);
   ps.misc = vec4(bs.pdf, ior, 0.0, 0.0);
   ps.ids.z = depth;
+  ps.ids.w &= ~(kPathFlagEdgeArrival | kPathFlagNoArrivalEmission);
   paths[path] = ps;
   uint slot = atomicAdd(counters[kCounterRays0 + (parity ^ 1u)], 1u);
   rayQueues[(parity ^ 1u) * batch + slot] = path;

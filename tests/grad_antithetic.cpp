@@ -57,6 +57,7 @@ Estimates render(const Scene& scene, AntitheticMode mode) {
   GradientOptions options;
   options.render.nee = NeeMode::Ellipsoidal;
   options.antithetic = mode;
+  options.edges = false;  // the plane's rim is outside the gate (see grad_boundary.cpp)
   GradientResult g = renderGradient(testRenderer(), scene, {"t", "c"}, options);
   EXPECT_EQ(g.stats.nonFinite, 0u);
   EXPECT_EQ(g.plan.antithetic, mode == AntitheticMode::On);

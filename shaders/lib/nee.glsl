@@ -32,6 +32,9 @@ struct NeeVertex {
   uint materialIndex;
   bool rayForm;
   vec3 arrivalDir;
+  // The first vertex of this path that can start an ellipsoidal connection (path.glsl's
+  // pathFirstEllipsoidVertex): which estimator covers which path lengths, below.
+  uint firstEllipsoidVertex;
 };
 
 #ifdef VKTG_DERIVATIVE
@@ -134,7 +137,7 @@ void standardNee(uint path, NeeVertex v, uint depth, vec3 u) {
   addLength(len, comp, dist);
   // Paths an ellipsoidal connection can also make are weighted against it (and emitter hits do
   // not count for them); shorter ones are weighted against BSDF sampling of the emitter.
-  bool againstEllipsoid = kSpecNeeModeValue == kNeeMis && depth >= frame.pathInfo.y + 1u;
+  bool againstEllipsoid = kSpecNeeModeValue == kNeeMis && depth >= v.firstEllipsoidVertex + 1u;
   float value;
   if (ls.isPoint) {
     value = v.throughput * f * cosX * ls.emission / (dist2 * ls.pdf);
@@ -233,26 +236,27 @@ void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float
 #endif
 }
 
-// Which estimator covers which paths (pathInfo.y = e, the first vertex that can start an
-// ellipsoidal connection: 0 at a point sensor, 1 behind a pinhole): in ellipsoidal mode, paths
+// Which estimator covers which paths (e, the first vertex that can start an ellipsoidal
+// connection: 0 at a point sensor, 1 behind a pinhole, the vertex after the boundary segment on an
+// edge pass's paths): in ellipsoidal mode, paths
 // with at most e + 1 segments use standard NEE (and emitter hits), longer ones ellipsoidal NEE.
 // In mis mode both run wherever they can, and the weights above split the paths between them.
 // A connection from vertex `depth` closes a path of depth + 1 (standard) or depth + 2 (ellipsoidal)
 // segments; paths have at most frame.gateInfo.w segments (max depth).
-bool standardNeeAt(uint depth) {
-  return (kSpecNeeModeValue != kNeeEllipsoidal || depth <= frame.pathInfo.y) && depth + 1u <= frame.gateInfo.w;
+bool standardNeeAt(uint depth, uint e) {
+  return (kSpecNeeModeValue != kNeeEllipsoidal || depth <= e) && depth + 1u <= frame.gateInfo.w;
 }
-bool ellipsoidalNeeAt(uint depth) {
-  return kSpecNeeModeValue != kNeeStandard && depth >= frame.pathInfo.y && depth + 2u <= frame.gateInfo.w;
+bool ellipsoidalNeeAt(uint depth, uint e) {
+  return kSpecNeeModeValue != kNeeStandard && depth >= e && depth + 2u <= frame.gateInfo.w;
 }
 // An emitter hit at vertex `depth` closes a path of `depth` segments.
-bool emitterHitCounts(uint depth) { return kSpecNeeModeValue == kNeeStandard || depth <= frame.pathInfo.y + 1u; }
+bool emitterHitCounts(uint depth, uint e) { return kSpecNeeModeValue == kNeeStandard || depth <= e + 1u; }
 
 void neeAtVertex(uint path, NeeVertex v, uint depth, uint pixel, uint sampleIndex) {
   uint seed = frame.image.w;
   if (kSpecTermValue == kTermPathLength) {
     // Every path an ellipsoidal connection can make, placed on a jump instead of sampled from W.
-    if (depth >= frame.pathInfo.y && depth + 2u <= frame.gateInfo.w) {
+    if (depth >= v.firstEllipsoidVertex && depth + 2u <= frame.gateInfo.w) {
       Rng rg = rngForBounce(pixel, sampleIndex, depth, kRngSlotGate, seed);
       Rng rl = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoidLight, seed);
       Rng re = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoid, seed);
@@ -260,11 +264,11 @@ void neeAtVertex(uint path, NeeVertex v, uint depth, uint pixel, uint sampleInde
     }
     return;
   }
-  if (standardNeeAt(depth)) {
+  if (standardNeeAt(depth, v.firstEllipsoidVertex)) {
     Rng r = rngForBounce(pixel, sampleIndex, depth, kRngSlotLight, seed);
     standardNee(path, v, depth, rngNext4(r).xyz);
   }
-  if (ellipsoidalNeeAt(depth)) {
+  if (ellipsoidalNeeAt(depth, v.firstEllipsoidVertex)) {
     Rng rg = rngForBounce(pixel, sampleIndex, depth, kRngSlotGate, seed);
     Rng rl = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoidLight, seed);
     Rng re = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoid, seed);

@@ -63,6 +63,13 @@ SurfacePoint surfacePoint(uint triangle, vec2 uv) {
   return sp;
 }
 
+// The first vertex of the path that can start an ellipsoidal connection: the frame's (0 at a
+// point sensor, 1 behind a pinhole) unless an edge pass stored its own (kPathFlagEdgeArrival).
+uint pathFirstEllipsoidVertex(PathState ps) {
+  uint stored = ps.ids.w >> kPathEllipsoidShift;
+  return stored > 0u ? stored - 1u : frame.pathInfo.y;
+}
+
 float powerHeuristic(float a, float b) {
   float a2 = a * a, b2 = b * b;
   return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;

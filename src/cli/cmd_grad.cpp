@@ -57,13 +57,14 @@ const CommandSpec& gradSpec() {
         "Derivatives of the time-gated image with respect to scene parameters (forward mode through the\n"
         "wavefront passes). Writes one EXR layer per parameter (per bin for a transient stack) and a PNG\n"
         "per layer in a diverging colormap (red positive, blue negative, the scale printed).\n"
-        "Terms (THEORY.md section 3): interior and path-length boundary, each its own pass; the\n"
-        "visibility-edge term is not implemented yet, so derivatives through moving silhouettes or\n"
-        "shadow boundaries are incomplete (--explain says so).";
+        "Terms (THEORY.md section 3), each its own pass: interior, edge (visibility boundary: moving\n"
+        "silhouettes and shadows; boundary segments from the camera and from the first hit) and\n"
+        "path-length boundary (the gate's jumps). --explain says which run and why.";
     s.options = derivativeOptions();
-    s.options.push_back({"--terms", "LIST", "terms to compute: interior,pathlength (default: those the planner finds needed)"});
-    s.options.push_back({"--split-terms", "", "also write each term's images (FILE.interior.exr, FILE.pathlength.exr)"});
+    s.options.push_back({"--terms", "LIST", "terms to compute: interior,edge,pathlength (default: those the planner finds needed)"});
+    s.options.push_back({"--split-terms", "", "also write each term's images (FILE.interior.exr, FILE.edge.exr, FILE.pathlength.exr)"});
     s.options.push_back({"--spp-boundary", "N", "samples per pixel of the path-length-boundary pass (default: --spp)"});
+    s.options.push_back({"--spp-edge", "N", "edge samples per pixel, on average, of the edge pass (default: --spp)"});
     s.options.push_back({"--antithetic", "MODE", "auto | on | off: antithetic pairs for near-delta gaussian gates (default auto)"});
     s.options.push_back({"--explain", "", "print the planner's choices and why"});
     s.examples = "  vktg grad scenes/occluder_shadow.json --param occluder_x,floor_albedo\n"
@@ -100,13 +101,13 @@ int runGrad(const std::vector<std::string>& argv) {
   std::vector<std::string> names = selectParameters(scene, args.get("--param").value_or(""));
   GradientOptions gradient;
   if (auto terms = args.get("--terms")) {
-    gradient.interior = gradient.pathLength = false;
+    gradient.interior = gradient.pathLength = gradient.edges = false;
     std::stringstream list(*terms);
     for (std::string term; std::getline(list, term, ',');) {
       if (term == "interior") gradient.interior = true;
       else if (term == "pathlength") gradient.pathLength = true;
-      else if (term == "edge") throw UsageError("--terms: the edge term is not implemented yet");
-      else throw UsageError("--terms: unknown term '" + term + "' (interior, pathlength)");
+      else if (term == "edge") gradient.edges = true;
+      else throw UsageError("--terms: unknown term '" + term + "' (interior, edge, pathlength)");
     }
   }
   if (auto antithetic = args.get("--antithetic")) {
@@ -116,12 +117,13 @@ int runGrad(const std::vector<std::string>& argv) {
     else throw UsageError("--antithetic: '" + *antithetic + "' is not one of auto, on, off");
   }
   gradient.sppBoundary = args.count("--spp-boundary", 1, 1u << 24).value_or(0);
+  gradient.sppEdge = args.count("--spp-edge", 1, 1u << 24).value_or(0);
   RenderOptions& options = gradient.render;
   if (auto nee = args.get("--nee")) options.nee = parseNeeMode(*nee);
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "grad");
   checkOutputPath(exr, {args.positionals[0]});
-  for (const char* term : {".interior.exr", ".pathlength.exr", ".npy"})
+  for (const char* term : {".interior.exr", ".edge.exr", ".pathlength.exr", ".npy"})
     checkOutputPath(withExtension(exr, term), {args.positionals[0]});
   auto context = makeContext(args);
   Renderer renderer(*context);
@@ -136,6 +138,7 @@ int runGrad(const std::vector<std::string>& argv) {
   writeExr(exr, layers);
   if (args.has("--split-terms")) {
     for (const auto& [term, images] : {std::pair<const char*, const TermImages*>{"interior", &result.interior},
+                                       std::pair<const char*, const TermImages*>{"edge", &result.edges},
                                        std::pair<const char*, const TermImages*>{"pathlength", &result.pathLength}}) {
       if (images->derivatives.empty()) continue;
       std::filesystem::path split = withExtension(exr, std::string(".") + term + ".exr");

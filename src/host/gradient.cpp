@@ -17,6 +17,9 @@ void addStats(RenderStats& total, const RenderStats& s) {
   total.nonFinite += s.nonFinite;
   total.ellipsoidQueries += s.ellipsoidQueries;
   total.ellipsoidEmpty += s.ellipsoidEmpty;
+  total.silhouetteEdges = std::max(total.silhouetteEdges, s.silhouetteEdges);
+  total.edgeSilhouettes += s.edgeSilhouettes;
+  total.edgeConnected += s.edgeConnected;
   total.batches += s.batches;
   total.batchSize = std::max(total.batchSize, s.batchSize);
   total.deviceBytes = std::max(total.deviceBytes, s.deviceBytes);
@@ -29,8 +32,12 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
   GradientPlan plan;
   std::vector<ParameterBinding> bindings = bindParameters(scene, parameters);
   bool movesLength = false;  // some parameter changes path lengths or the gate's position
-  for (const ParameterBinding& b : bindings)
+  bool movesGeometry = false, movesPointLight = false;
+  for (const ParameterBinding& b : bindings) {
     movesLength |= isGeometric(b.kind) || b.kind == ParameterKind::GateCenter;
+    movesGeometry |= isGeometric(b.kind) && b.kind != ParameterKind::LightPosition;
+    movesPointLight |= b.kind == ParameterKind::LightPosition;
+  }
   plan.interior = options.interior;
   if (plan.interior) plan.reasons.push_back("interior term: forward mode through every sampled path");
   const Gate& gate = scene.gate;
@@ -55,7 +62,18 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
     plan.reasons.push_back(nearDelta ? "antithetic pairs s, 2 mu - s for the ellipsoidal connections: the gaussian gate is near-delta (sigma/mu <= 1e-2)"
                                      : "antithetic pairs: requested");
   }
-  plan.reasons.push_back("edge (visibility-boundary) term: not implemented yet; derivatives through moving silhouettes or shadow boundaries miss it");
+  if (!options.edges) {
+    plan.reasons.push_back("edge (visibility-boundary) term: not requested");
+  } else if (!movesGeometry) {
+    plan.reasons.push_back(movesPointLight
+                               ? "no edge pass: only a point light moves, and the edge pass does not sample the shadow boundaries of point lights (their derivative misses that part)"
+                               : "no edge pass: no selected parameter moves geometry that can occlude");
+  } else {
+    plan.edges = true;
+    plan.reasons.push_back("edge pass: parameters move geometry; boundary segments from the camera (primary silhouettes) and from the first hit (shadows and occlusion of the first bounce, any light-side depth)");
+    if (movesPointLight)
+      plan.reasons.push_back("edge pass: shadow boundaries of moving point lights are not sampled (their derivative misses that part)");
+  }
   return plan;
 }
 
@@ -111,6 +129,14 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
   } else {
     result.primal = renderer.render(scene, base);
     addStats(result.stats, result.primal.stats);
+  }
+  if (result.plan.edges) {
+    Scene edgeScene = scene;
+    if (options.sppEdge > 0) edgeScene.render.spp = options.sppEdge;
+    RenderOptions edge = base;
+    edge.edges = true;
+    result.edges = renderTerm(renderer, edgeScene, bindings, edge, result.stats, nullptr);
+    accumulateTerm(result.total, result.edges);
   }
   if (result.plan.pathLength) {
     Scene boundaryScene = scene;

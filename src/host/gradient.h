@@ -15,7 +15,9 @@ struct GradientOptions {
   RenderOptions render;
   bool interior = true;
   bool pathLength = true;           // the planner still drops it when it cannot contribute
+  bool edges = true;                // likewise
   uint32_t sppBoundary = 0;         // samples per pixel of the path-length-boundary pass (0: the scene's spp)
+  uint32_t sppEdge = 0;             // edge samples per pixel, on average, of the edge pass (0: the scene's spp)
   AntitheticMode antithetic = AntitheticMode::Auto;
 };
 
@@ -23,6 +25,7 @@ struct GradientOptions {
 struct GradientPlan {
   bool interior = false;
   bool pathLength = false;
+  bool edges = false;
   bool antithetic = false;
   std::vector<std::string> reasons;
 };
@@ -41,7 +44,7 @@ struct GradientResult {
   RenderResult primal;                 // the image (from the interior pass, or a plain render)
   std::vector<std::string> parameters;
   TermImages total;                    // sum of the terms that ran
-  TermImages interior, pathLength;     // per term (empty when the term did not run)
+  TermImages interior, edges, pathLength;  // per term (empty when the term did not run)
   GradientPlan plan;
   RenderStats stats;                   // summed over passes and blocks
 };

@@ -9,6 +9,7 @@
 #include "host/pass_profiler.h"
 #include "host/wavefront.h"
 #include "vktg/error.h"
+#include "vktg/silhouette_edges.h"
 
 namespace vktg {
 namespace {
@@ -77,7 +78,14 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   const uint32_t width = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.width;
   const uint32_t height = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.height;
   const uint64_t pixels = uint64_t(width) * height;
+  // The edge term counts edge samples (each owns two path slots); the others count paths.
   const uint64_t totalPaths = pixels * scene.render.spp;
+  const bool edges = options.edges;
+  const uint32_t slotsPerSample = edges ? 2 : 1;
+  if (edges && (lanes == 0 || options.pathLengthBoundary))
+    throw Error("internal: the edge term needs derivative lanes and excludes the path-length-boundary term");
+  if (edges && totalPaths >= (uint64_t(1) << 32))
+    throw Error("--spp-edge: " + std::to_string(totalPaths) + " edge samples are too many for one render");
   if (pixels * scene.render.spp > (uint64_t(1) << 32) * 8)
     throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
 
@@ -90,10 +98,14 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the film (" +
                 std::to_string(filmBytes >> 20) + " MiB) and the scene (" + std::to_string(gpuScene.bytes >> 20) +
                 " MiB); raise it");
+  const std::vector<gpu::GpuEdge> edgeList = edges ? silhouetteEdges(prepared) : std::vector<gpu::GpuEdge>{};
+  Buffer edgeBuffer(context, std::max<size_t>(16, edgeList.size() * sizeof(gpu::GpuEdge)), MemoryKind::Device, "scene.edges");
+  edgeBuffer.upload(context, edgeList.data(), edgeList.size() * sizeof(gpu::GpuEdge));
   const uint32_t batchSize =
-      batchSizeFor(options.memoryBudget - filmBytes - gpuScene.bytes, layers, lanes,
-                   context.properties().limits.maxStorageBufferRange, totalPaths,
+      batchSizeFor(options.memoryBudget - filmBytes - gpuScene.bytes - edgeBuffer.size(), layers, lanes,
+                   context.properties().limits.maxStorageBufferRange, totalPaths * slotsPerSample,
                    context.properties().limits.maxComputeWorkGroupCount[0]);
+  const uint32_t samplesPerBatch = batchSize / slotsPerSample;
   WavefrontBuffers wave(context, batchSize, layers, lanes);
   // Derivative inputs: per-lane vertex velocities and what each lane differentiates.
   std::vector<glm::vec4> velocities(std::max<size_t>(1, size_t(lanes) * prepared.vertices.size()), glm::vec4(0.0f));
@@ -114,6 +126,9 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
                                                     : gpu::kNeeStandard;
   frame.pathInfo = glm::uvec4(scene.render.rouletteDepth, plan.firstEllipsoidVertex, channels, batchSize);
   frame.chunkShift.z = film.shift;
+  frame.edgeInfo = glm::uvec4(uint32_t(edgeList.size()), edges ? uint32_t(totalPaths) : 0u, 0, 0);
+  // resolve divides by the samples every pixel's sums saw: an edge sample counts in every pixel.
+  if (edges) frame.image.z = uint32_t(totalPaths);
   Buffer frameBuffer(context, sizeof frame, MemoryKind::Device, "frame");
   frameBuffer.upload(context, &frame, sizeof frame);
 
@@ -132,6 +147,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   table.set(gpu::kBindingLanes, laneBuffer);
   table.set(gpu::kBindingPathDerivs, wave.pathDerivs);
   table.set(gpu::kBindingShadowDerivs, wave.shadowDerivs);
+  table.set(gpu::kBindingEdges, edgeBuffer);
   DescriptorSet set(context, pipelines.setLayout(), table, m_impl->dummy);
 
   SpecValues spec{};
@@ -145,14 +161,18 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   spec[gpu::kSpecAntithetic] = options.antithetic ? 1u : 0u;
   if (options.pathLengthBoundary && (lanes == 0 || !scene.gate.hasJumps()))
     throw Error("internal: the path-length-boundary term needs derivative lanes and a gate with jumps");
-  // The derivative variants carry the lanes; passes without derivative work are shared.
-  const std::string variant = lanes > 0 ? "_d" : "";
-  VkPipeline generate = pipelines.get("generate_camera_rays" + variant, spec);
+  // The derivative variants carry the lanes; passes without derivative work are shared. The edge
+  // term's light sides are plain paths (their lanes are factors sample_edges set).
+  const std::string variant = lanes > 0 && !edges ? "_d" : "";
+  const std::string shadeName = "shade" + variant, shadowName = "trace_shadow_rays" + variant;
+  const std::string generateName = edges ? "sample_edges" : "generate_camera_rays" + variant;
+  const std::string accumulateName = edges ? "accumulate_edges" : "accumulate";
+  VkPipeline generate = pipelines.get(generateName, spec);
   VkPipeline intersect = pipelines.get("intersect_closest", spec);
-  VkPipeline shade = pipelines.get("shade" + variant, spec);
-  VkPipeline shadow = pipelines.get("trace_shadow_rays" + variant, spec);
+  VkPipeline shade = pipelines.get(shadeName, spec);
+  VkPipeline shadow = pipelines.get(shadowName, spec);
   VkPipeline setArgs = pipelines.get("set_dispatch_args", spec);
-  VkPipeline accumulate = pipelines.get("accumulate", spec);
+  VkPipeline accumulate = pipelines.get(accumulateName, spec);
   VkPipeline resolve = pipelines.get("resolve", spec);
   VkPipelineLayout layout = pipelines.layout();
   VkDescriptorSet ds = set.get();
@@ -194,7 +214,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   auto start = std::chrono::steady_clock::now();
   uint64_t done = 0;
   while (done < totalPaths) {
-    uint32_t active = uint32_t(std::min<uint64_t>(batchSize, totalPaths - done));
+    uint32_t active = uint32_t(std::min<uint64_t>(samplesPerBatch, totalPaths - done));
     uint32_t firstSample = uint32_t(done / pixels);
     uint32_t firstLinear = uint32_t(done - uint64_t(firstSample) * pixels);
     cmdBuffer.begin();
@@ -203,25 +223,31 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     vkCmdFillBuffer(cmd, wave.counters.handle(), 0, gpu::kCounterExtensionRays * sizeof(uint32_t), 0);
     vkCmdFillBuffer(cmd, wave.pathAccum.handle(), 0, VK_WHOLE_SIZE, 0);
     computeBarrier(cmd);
-    pushArgs(cmd, layout, firstLinear, firstSample, 0, active);
-    dispatch(lanes ? "generate_camera_rays_d" : "generate_camera_rays", generate, groupsFor(active));
+    pushArgs(cmd, layout, edges ? uint32_t(done) : firstLinear, firstSample, 0, active);
+    dispatch(generateName.c_str(), generate, groupsFor(active));
     for (uint32_t depth = 0; depth < maxDepth; ++depth) {
       uint32_t parity = depth & 1u;
       pushArgs(cmd, layout, gpu::kCounterRays0 + parity, gpu::kArgsRays, gpu::kCounterExtensionRays, 0);
       dispatch("set_dispatch_args", setArgs, 1);
       pushArgs(cmd, layout, 0, 0, depth, 0);
-      dispatchIndirect("intersect_closest", intersect, gpu::kArgsRays);
+      // sample_edges already found the hit at the end of every boundary segment.
+      if (!(edges && depth == 0)) dispatchIndirect("intersect_closest", intersect, gpu::kArgsRays);
       zeroCounter(gpu::kCounterRays0 + (parity ^ 1u));
-      dispatchIndirect(lanes ? "shade_d" : "shade", shade, gpu::kArgsRays);
+      dispatchIndirect(shadeName.c_str(), shade, gpu::kArgsRays);
       pushArgs(cmd, layout, gpu::kCounterShadow, gpu::kArgsShadow, gpu::kCounterShadowRays, 0);
       dispatch("set_dispatch_args", setArgs, 1);
-      dispatchIndirect(lanes ? "trace_shadow_rays_d" : "trace_shadow_rays", shadow, gpu::kArgsShadow);
+      dispatchIndirect(shadowName.c_str(), shadow, gpu::kArgsShadow);
       zeroCounter(gpu::kCounterShadow);
     }
-    uint64_t pathsPerPixel = (active + pixels - 1) / pixels;
-    for (uint32_t round = 0; uint64_t(round) * gpu::kPathsPerRound < pathsPerPixel; ++round) {
-      pushArgs(cmd, layout, firstLinear, round, result.stats.batches, active);
-      dispatch("accumulate", accumulate, groupsFor(filmElements));
+    if (edges) {
+      pushArgs(cmd, layout, 0, 0, 0, active);
+      dispatch("accumulate_edges", accumulate, groupsFor(uint64_t(active) * layers * lanes));
+    } else {
+      uint64_t pathsPerPixel = (active + pixels - 1) / pixels;
+      for (uint32_t round = 0; uint64_t(round) * gpu::kPathsPerRound < pathsPerPixel; ++round) {
+        pushArgs(cmd, layout, firstLinear, round, result.stats.batches, active);
+        dispatch("accumulate", accumulate, groupsFor(filmElements));
+      }
     }
     cmdBuffer.end();
     context.submitAndWait(cmd);
@@ -254,6 +280,9 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   stats.nonFinite = counters[gpu::kCounterNonFinite];
   stats.ellipsoidQueries = counters[gpu::kCounterEllipsoidQueries];
   stats.ellipsoidEmpty = counters[gpu::kCounterEllipsoidEmpty];
+  stats.edgeSilhouettes = counters[gpu::kCounterEdgeSilhouettes];
+  stats.edgeConnected = counters[gpu::kCounterEdgeConnected];
+  stats.silhouetteEdges = edgeList.size();
   stats.batchSize = batchSize;
   stats.deviceBytes = gpuScene.bytes + wave.bytes() + filmBytes;
   result.passMilliseconds = profiler.millisecondsPerPass();

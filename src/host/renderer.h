@@ -26,6 +26,9 @@ struct RenderOptions {
   // Which derivative term the lanes compute: the interior term, or the path-length-boundary
   // term of the gate's jumps (then the image channel stays zero).
   bool pathLengthBoundary = false;
+  // Or the visibility-boundary (edge) term: scene.render.spp edge samples per pixel on average
+  // (sample_edges), splatted into the pixels their camera connections reach.
+  bool edges = false;
   // Ellipsoidal connections in antithetic pairs s, 2 mu - s (gaussian gates; THEORY.md §5).
   bool antithetic = false;
 };
@@ -38,6 +41,9 @@ struct RenderStats {
   uint64_t endedByGate = 0, endedByRoulette = 0, endedByDepth = 0;
   uint64_t nonFinite = 0;
   uint64_t ellipsoidQueries = 0, ellipsoidEmpty = 0;
+  // Edge term: silhouette-capable edges, samples whose direction made their edge a silhouette,
+  // and of those the ones whose boundary segment reached the camera.
+  uint64_t silhouetteEdges = 0, edgeSilhouettes = 0, edgeConnected = 0;
   uint32_t batches = 0, batchSize = 0;
   uint64_t deviceBytes = 0;  // scene + wavefront + film
   double seconds = 0;        // wall time of the batches (excludes pipeline creation)

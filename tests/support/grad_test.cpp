@@ -82,6 +82,7 @@ GradientImages gradientInTest(const Scene& scene, const std::vector<std::string>
   gradient.render = options;
   gradient.interior = true;
   gradient.pathLength = false;
+  gradient.edges = false;  // the interior scenes have no visibility boundary a gated path sees
   gradient.antithetic = AntitheticMode::Off;
   GradientResult r = renderGradient(testRenderer(), scene, parameters, gradient);
   // Each pixel's variance is the sample variance of its spp samples.

@@ -44,6 +44,15 @@ VKTG_CONST(uint, kNeeMis, 2);           // both, weighted by the power heuristic
 
 // Bits of PathState.ids.w
 VKTG_CONST(uint, kPathFlagAfterTransmission, 1);
+// The path reached its current hit over an edge pass's boundary segment: that hit was placed, not
+// sampled, so its emission counts without MIS, and the path's own first ellipsoidal vertex
+// (bits kPathEllipsoidShift.., stored + 1) replaces pathInfo.y: the vertex after the boundary
+// segment is fixed, so connections that would have to move it start after it.
+VKTG_CONST(uint, kPathFlagEdgeArrival, 2);
+// ... and that hit's own emission belongs to another edge strategy (towards the lights): skip it.
+VKTG_CONST(uint, kPathFlagNoArrivalEmission, 4);
+VKTG_CONST(uint, kPathEllipsoidShift, 8);
+VKTG_CONST(uint, kNoPixel, 0xffffffffu);  // an edge sample whose path reaches no pixel
 
 // Indices into the Counters buffer (uint array).
 VKTG_CONST(uint, kCounterRays0, 0);          // ray queue 0 size
@@ -57,6 +66,8 @@ VKTG_CONST(uint, kCounterEndedByDepth, 7);
 VKTG_CONST(uint, kCounterNonFinite, 8);      // NaN/Inf contributions dropped (must stay 0)
 VKTG_CONST(uint, kCounterEllipsoidQueries, 9);
 VKTG_CONST(uint, kCounterEllipsoidEmpty, 10);  // queries whose shell met no surface
+VKTG_CONST(uint, kCounterEdgeSilhouettes, 11);  // edge samples whose direction made the edge a silhouette
+VKTG_CONST(uint, kCounterEdgeConnected, 12);    // ... whose boundary segment also reached the camera
 VKTG_CONST(uint, kCounterCount, 16);
 
 // Indices of VkDispatchIndirectCommand records in the dispatch-args buffer.
@@ -93,7 +104,8 @@ VKTG_CONST(uint, kBindingPathDerivs, 27);      // PathDerivative[path * lanes + 
 VKTG_CONST(uint, kBindingShadowDerivs, 28);    // vec2[shadow ray * lanes + lane]: d value, d length
 VKTG_CONST(uint, kBindingTestIn, 29);        // test kernels only
 VKTG_CONST(uint, kBindingTestOut, 30);       // test kernels only
-VKTG_CONST(uint, kBindingCount, 31);
+VKTG_CONST(uint, kBindingEdges, 31);        // GpuEdge[]: silhouette-capable edges with a CDF by length
+VKTG_CONST(uint, kBindingCount, 32);
 
 // At most this many shadow rays a path can queue per bounce: standard + an antithetic pair of
 // ellipsoidal connections, plus at a point sensor the pair its first hit queues in the same
@@ -168,6 +180,16 @@ struct GpuLight {
   float pmf;               // selection probability
 };
 
+// An edge that can be a silhouette: a mesh boundary, or the crease between two faces that are not
+// coplanar (a flat crease never is). Positions are the scene's at θ0; the vertex indices find the
+// velocities of each lane (kBindingVertexVelocity).
+struct GpuEdge {
+  vec4 p0;       // xyz: first end, w: its vertex index (uint bits)
+  vec4 p1;       // xyz: second end, w: its vertex index (uint bits)
+  vec4 inward0;  // xyz: unit direction in face 0, perpendicular to the edge, into the face; w: inclusive CDF by length
+  vec4 inward1;  // xyz: the same in face 1 (zero for a boundary edge); w: selection probability
+};
+
 // ---- Per-frame constants -----------------------------------------------------------------------
 struct FrameUniforms {
   vec4 cameraPosition;    // xyz; w: unused
@@ -183,6 +205,7 @@ struct FrameUniforms {
   uvec4 pathInfo;         // x: roulette depth, y: first vertex with an ellipsoidal connection, z: channels, w: batch size
   vec4 sceneInfo;         // x: ray epsilon (scene-scale relative), y: scene diagonal, z: total light power, w: vertex count (uint bits)
   uvec4 chunkShift;       // log2 of elements per chunk: x triangles, y BVH nodes, z film floats, w unused
+  uvec4 edgeInfo;         // x: silhouette-capable edges (kBindingEdges), y: edge samples of the render, z, w unused
 };
 
 struct GpuLane {

@@ -1,0 +1,19 @@
+// The edges the visibility-boundary (edge) pass samples: every edge of the scene's triangles that
+// can be a silhouette from some direction. CPU only, so tests check it without a device.
+#pragma once
+#include <vector>
+
+#include "vktg/gpu/shared.h"
+#include "vktg/prepared_scene.h"
+
+namespace vktg {
+
+// Edges are matched by the exact positions of their ends (meshes that duplicate vertices along a
+// seam still share the edge), so a crease between two faces is found once. Kept: boundary edges
+// (one face) and creases whose faces are not coplanar; an edge of three or more faces (non-manifold)
+// is kept as the crease of its first two. Dropped: flat creases, which no line can graze without
+// entering a face on both sides. Degenerate (zero-length) edges are dropped. The CDF (inward0.w)
+// selects edges proportionally to length; pmf in inward1.w.
+std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared);
+
+}  // namespace vktg

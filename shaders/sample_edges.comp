@@ -1,0 +1,276 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Pass sample_edges (the visibility-boundary term; lib/edge.glsl has the mathematics): one edge
+// sample per invocation. Picks a point y on a silhouette-capable edge (by length) and one of three
+// strategies (kPrimary*, kToLight* probabilities):
+//   primary:   the segment from the camera (sensor) through y; behind a pinhole both sides of the
+//              silhouette are traced (the ray just past the edge and the ray onto its face), at
+//              a point sensor only the unoccluded side (its first hits are material points);
+//   to light:  the segment from a light sample x_b (area or point light) through y, traced on to
+//              x_a, which connects to the camera: a shadow boundary of direct light, complete here;
+//   secondary: a uniform direction w at y, traced both ways to x_a (-w) and x_b (+w); x_a
+//              connects to the camera, and the light side continues from x_b except x_b's own
+//              emission (the to-light strategy's share: the change of variables from w to the
+//              visible light point covers exactly those paths).
+// In the last two the boundary segment is the path's second. The light side of primary and
+// secondary samples continues from the hit at the end of the boundary segment through the
+// ordinary shade and trace_shadow_rays passes, which close it with emission, standard or
+// ellipsoidal NEE at any depth, so a narrow gate still lands every path in its support. Each
+// sample owns two path slots (2i: the unoccluded side, 2i + 1: the occluded side of a primary
+// pinhole sample, or the to-light path); the per-lane factor -v_n (+v_n on the occluded side)
+// waits in pathDerivs[slot].positionThroughput.x for accumulate_edges, which splats slot values
+// times factors into the sample's pixel.
+// Reads: edges, scene BVH, camera, velocities. Writes: paths[2i, 2i+1], hits, ray queue 0,
+// pathDerivs (factors), edge counters. Dispatch: ceil(edge samples of the batch / kWorkgroupSize);
+// push.args: x first edge sample of the batch, w samples in the batch.
+#define VKTG_DERIVATIVE 1
+#include "lib/common.glsl"
+#include "lib/bindings.glsl"
+#include "lib/rng.glsl"
+#include "lib/bvh.glsl"
+#include "lib/nee.glsl"
+#include "lib/edge.glsl"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(push_constant) uniform Push { PassPush push; };
+
+// How far from the edge the traced rays pass, in ray epsilons: far enough that neither of the
+// edge's own faces is hit by rounding, near enough to see what the boundary segment sees.
+const float kEdgeOffsetEpsilons = 8.0;
+// Strategy probabilities: shadows of direct light are usually the largest secondary share and the
+// uniform direction rarely finds a small light, hence the split.
+const float kPrimaryProbability = 0.35, kToLightProbability = 0.45, kSecondaryProbability = 0.2;
+
+// The camera's importance per unit solid angle for a ray leaving it along unit `dir`, and the
+// pixel it falls in (kNoPixel and 0 outside the image or behind the sensor). A pinhole pixel
+// averages radiance over its footprint on the image plane at distance 1 (area 4 |R| |U| / pixels,
+// solid angle cos^3 per unit area); the point sensor measures irradiance (cos per solid angle).
+float cameraImportance(vec3 dir, out uint pixel) {
+  pixel = kNoPixel;
+  float c = dot(dir, frame.cameraForward.xyz);
+  if (!(c > 0.0)) return 0.0;
+  if (kSpecCameraTypeValue == kCameraPointSensor) {
+    pixel = 0u;
+    return c;
+  }
+  vec3 q = dir / c;
+  vec3 r = frame.cameraRight.xyz, u = frame.cameraUp.xyz;
+  float px = 0.5 * (dot(q, r) / dot(r, r) + 1.0);
+  float py = 0.5 * (1.0 - dot(q, u) / dot(u, u));
+  if (!(px >= 0.0 && px < 1.0 && py >= 0.0 && py < 1.0)) return 0.0;
+  uint x = min(uint(px * float(frame.image.x)), frame.image.x - 1u);
+  uint y = min(uint(py * float(frame.image.y)), frame.image.y - 1u);
+  pixel = y * frame.image.x + x;
+  return float(frame.image.x * frame.image.y) / (4.0 * length(r) * length(u) * c * c * c);
+}
+
+vec3 surfaceVelocity(uint triangle, vec2 uv, uint lane) {
+  Dual3 p0, p1, p2;
+  triangleDual(triangle, lane, p0, p1, p2);
+  return dBarycentric(p0, p1, p2, uv).d;
+}
+
+// Velocity of a first hit behind a pinhole, which slides along its fixed camera ray `dir`.
+vec3 rayVelocity(uint triangle, vec2 uv, vec3 dir, uint lane) {
+  Dual3 p0, p1, p2;
+  triangleDual(triangle, lane, p0, p1, p2);
+  return rayHitDual(dir, p0, p1, p2, uv).d;
+}
+
+vec3 edgePointVelocity(GpuEdge e, float t, uint lane) {
+  uint base = lane * vertexCount();
+  return mix(vertexVelocity[base + floatBitsToUint(e.p0.w)].xyz, vertexVelocity[base + floatBitsToUint(e.p1.w)].xyz, t);
+}
+
+void setFactor(uint slot, uint lane, float factor) {
+  pathDerivs[slot * kSpecLanesValue + lane].positionThroughput = vec4(factor, 0.0, 0.0, 0.0);
+}
+
+// Hands slot `slot` to shade: the path stands at `from` (vertex `depth`, reached over length
+// `len`) and its next segment, the boundary segment or the ray beside it, ends at `hit`.
+void startEdgePath(uint slot, vec3 from, vec3 before, uint fromTriangle, vec3 fromNormal, float len, vec3 dir,
+                   HitRecord hit, float throughput, float ior, uint depth, uint pixel, uint sampleIndex, uint flags) {
+  uint firstEllipsoid = max(frame.pathInfo.y, depth + 1u);
+  PathState ps;
+  ps.position = vec4(from, len);
+  ps.direction = vec4(dir, 0.0);
+  ps.normal = vec4(fromNormal, throughput);
+  ps.misc = vec4(0.0, ior, 0.0, 0.0);
+  ps.ids = uvec4(pixel, sampleIndex, depth, flags | kPathFlagEdgeArrival | ((firstEllipsoid + 1u) << kPathEllipsoidShift));
+  ps.previous = vec4(before, uintBitsToFloat(fromTriangle));
+  paths[slot] = ps;
+  hits[slot] = hit;
+  uint queued = atomicAdd(counters[kCounterRays0], 1u);
+  rayQueues[queued] = slot;
+}
+
+void primarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float pY, float offset) {
+  vec3 c = frame.cameraPosition.xyz;
+  float dA = distance(y, c);
+  vec3 w = (y - c) / dA;
+  vec3 np;
+  float sinPhi;
+  if (!silhouettePlane(e, w, np, sinPhi)) return;
+  atomicAdd(counters[kCounterEdgeSilhouettes], 1u);
+  uint pixel;
+  float importance = cameraImportance(w, pixel);
+  if (importance == 0.0) return;
+  float eps = frame.sceneInfo.x;
+  vec3 wVisible = normalize(y + offset * np - c);
+  HitRecord hb;
+  bool hitB = traceClosest(c, wVisible, eps, kInfinity, hb);
+  if (hitB && hb.tuvTriangle.x < dA - offset) return;  // something nearer hides the edge
+  atomicAdd(counters[kCounterEdgeConnected], 1u);
+  float weight = importance * sinPhi / (dA * dA * pY * kPrimaryProbability);
+  bool pinhole = kSpecCameraTypeValue == kCameraPerspective;
+  if (hitB) {
+    uint tb = floatBitsToUint(hb.tuvTriangle.w);
+    float dB = max(distance(surfacePoint(tb, hb.tuvTriangle.yz).position, y), 0.0);
+    for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
+      // Behind a pinhole x_b slides along the ray, within the plane: no normal velocity.
+      vec3 vB = pinhole ? vec3(0.0) : surfaceVelocity(tb, hb.tuvTriangle.yz, lane);
+      setFactor(2u * i, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vec3(0.0), vB, dA, dB, np));
+    }
+    startEdgePath(2u * i, c, c, 0xffffffffu, frame.cameraForward.xyz, 0.0, wVisible, hb, weight, 1.0, 0u, pixel,
+                  sampleIndex, 0u);
+  }
+  if (!pinhole) return;
+  // The pixel's other side sees the edge's face: its radiance is what the silhouette uncovers
+  // when it moves away from n_p.
+  vec3 wHidden = normalize(y - offset * np - c);
+  HitRecord ho;
+  if (!traceClosest(c, wHidden, eps, kInfinity, ho)) return;
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane)
+    setFactor(2u * i + 1u, lane, dot(edgePointVelocity(e, t, lane), np));
+  startEdgePath(2u * i + 1u, c, c, 0xffffffffu, frame.cameraForward.xyz, 0.0, wHidden, ho, weight, 1.0, 0u, pixel,
+                sampleIndex, 0u);
+}
+
+// The camera's view of a first hit x_a: importance times the geometry term of x_a -> camera
+// (0 if hidden or outside the image), its pixel, and the unit direction to the camera.
+float cameraConnection(SurfacePoint xa, out uint pixel, out vec3 wc, out float r) {
+  vec3 c = frame.cameraPosition.xyz;
+  r = distance(c, xa.position);
+  pixel = kNoPixel;
+  wc = vec3(0.0);
+  if (!(r > 0.0)) return 0.0;
+  wc = (c - xa.position) / r;
+  float importance = cameraImportance(-wc, pixel);
+  if (importance == 0.0) return 0.0;
+  float eps = frame.sceneInfo.x;
+  if (r > 2.0 * eps && traceAny(xa.position, wc, eps, r - eps)) return 0.0;
+  return importance * abs(dot(xa.normal, wc)) / (r * r);
+}
+
+void secondarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float pY, float offset, vec2 uDir) {
+  vec3 w = sampleUniformSphere(uDir);
+  vec3 np;
+  float sinPhi;
+  if (!silhouettePlane(e, w, np, sinPhi)) return;
+  atomicAdd(counters[kCounterEdgeSilhouettes], 1u);
+  vec3 yv = y + offset * np;
+  HitRecord hb, ha;
+  if (!traceClosest(yv, w, 0.0, kInfinity, hb)) return;
+  if (!traceClosest(yv, -w, 0.0, kInfinity, ha)) return;
+  uint ta = floatBitsToUint(ha.tuvTriangle.w), tb = floatBitsToUint(hb.tuvTriangle.w);
+  SurfacePoint xa = surfacePoint(ta, ha.tuvTriangle.yz);
+  SurfacePoint xb = surfacePoint(tb, hb.tuvTriangle.yz);
+  uint pixel;
+  vec3 wc;
+  float r;
+  float camera = cameraConnection(xa, pixel, wc, r);
+  if (camera == 0.0) return;
+  GpuMaterial ma = materials[shapes[xa.shape].material];
+  float fa = bsdfEval(ma, xa.normal, wc, w);
+  if (fa == 0.0) return;
+  atomicAdd(counters[kCounterEdgeConnected], 1u);
+  // 1 / p_w = 4 pi for the uniform direction.
+  float weight = camera * fa * sinPhi * 4.0 * kPi / (pY * kSecondaryProbability);
+  float ior = 1.0;
+  if (dot(xa.normal, w) * dot(xa.normal, wc) < 0.0) ior = dot(xa.normal, w) < 0.0 ? ma.ior : 1.0;
+  float dA = distance(y, xa.position), dB = distance(xb.position, y);
+  bool pinhole = kSpecCameraTypeValue == kCameraPerspective;
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
+    vec3 vA = pinhole ? rayVelocity(ta, ha.tuvTriangle.yz, -wc, lane) : surfaceVelocity(ta, ha.tuvTriangle.yz, lane);
+    vec3 vB = surfaceVelocity(tb, hb.tuvTriangle.yz, lane);
+    setFactor(2u * i, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vA, vB, dA, dB, np));
+  }
+  startEdgePath(2u * i, xa.position, frame.cameraPosition.xyz, ta, xa.normal, r, w, hb, weight, ior, 1u, pixel, sampleIndex,
+                kPathFlagNoArrivalEmission);
+}
+
+// Direct light through the boundary: x_b a light sample, the segment x_b -> y -> x_a. Changing
+// variables from the direction at y to the light point (dw = |cos_b| dA_b / |x_b - y|^2, x_b the
+// first thing y sees that way) turns 1 / p_w into |cos_b| / (|x_b - y|^2 p_A); a point light is a
+// fixed end (1 / |x_b - y|^2, its selection probability in place of p_A).
+void toLightSample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float pY, float offset, vec3 uLight) {
+  LightSample ls;
+  if (!sampleLight(uLight, ls)) return;
+  float dB = distance(ls.position, y);
+  if (!(dB > 0.0)) return;
+  vec3 w = (ls.position - y) / dB;  // from y towards the light: +w is the x_b side
+  vec3 np;
+  float sinPhi;
+  if (!silhouettePlane(e, w, np, sinPhi)) return;
+  atomicAdd(counters[kCounterEdgeSilhouettes], 1u);
+  float cosB = 1.0;
+  if (!ls.isPoint) {
+    cosB = dot(ls.normal, -w);
+    if (cosB <= 0.0) return;  // area lights emit from their front face
+  }
+  float eps = frame.sceneInfo.x;
+  vec3 yv = y + offset * np;
+  vec3 toLight = ls.position - yv;
+  float lightDistance = length(toLight);
+  if (lightDistance > 2.0 * eps && traceAny(yv, toLight / lightDistance, eps, lightDistance - eps)) return;
+  HitRecord ha;
+  if (!traceClosest(yv, -w, 0.0, kInfinity, ha)) return;
+  uint ta = floatBitsToUint(ha.tuvTriangle.w);
+  SurfacePoint xa = surfacePoint(ta, ha.tuvTriangle.yz);
+  uint pixel;
+  vec3 wc;
+  float r;
+  float camera = cameraConnection(xa, pixel, wc, r);
+  if (camera == 0.0) return;
+  GpuMaterial ma = materials[shapes[xa.shape].material];
+  float fa = bsdfEval(ma, xa.normal, wc, w);
+  if (fa == 0.0) return;
+  atomicAdd(counters[kCounterEdgeConnected], 1u);
+  float ior = 1.0;
+  if (dot(xa.normal, w) * dot(xa.normal, wc) < 0.0) ior = dot(xa.normal, w) < 0.0 ? ma.ior : 1.0;
+  float dA = distance(y, xa.position);
+  float value = camera * fa * ls.emission * sinPhi * cosB / (dB * dB * ls.pdf * pY * kToLightProbability);
+  float len = r, comp = 0.0;
+  addLength(len, comp, distance(xa.position, ls.position) * ior);
+  uint slot = 2u * i + 1u;
+  bool pinhole = kSpecCameraTypeValue == kCameraPerspective;
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
+    vec3 vA = pinhole ? rayVelocity(ta, ha.tuvTriangle.yz, -wc, lane) : surfaceVelocity(ta, ha.tuvTriangle.yz, lane);
+    vec3 vB = lightDual(ls, lane).position.d;
+    setFactor(slot, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vA, vB, dA, dB, np));
+  }
+  paths[slot].ids.x = pixel;
+  addContribution(slot, value, len);
+}
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= push.args.w) return;
+  uint sampleIndex = push.args.x + i;
+  for (uint side = 0u; side < 2u; ++side) {
+    paths[2u * i + side].ids = uvec4(kNoPixel, sampleIndex, 0u, 0u);
+    for (uint lane = 0u; lane < kSpecLanesValue; ++lane) setFactor(2u * i + side, lane, 0.0);
+  }
+  if (frame.edgeInfo.x == 0u) return;
+  Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimCamera, frame.image.w);
+  vec4 u = rngNext4(rng);
+  GpuEdge e = edges[selectEdge(u.x)];
+  float t = u.y;
+  vec3 y = mix(e.p0.xyz, e.p1.xyz, t);
+  float pY = e.inward1.w / distance(e.p0.xyz, e.p1.xyz);
+  float offset = kEdgeOffsetEpsilons * frame.sceneInfo.x;
+  vec4 u2 = rngNext4(rng);
+  if (u.z < kPrimaryProbability) primarySample(i, sampleIndex, e, t, y, pY, offset);
+  else if (u.z < kPrimaryProbability + kToLightProbability) toLightSample(i, sampleIndex, e, t, y, pY, offset, u2.xyz);
+  else secondarySample(i, sampleIndex, e, t, y, pY, offset, u2.xy);
+}

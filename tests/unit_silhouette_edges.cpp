@@ -1,0 +1,85 @@
+// The edge list of the visibility-boundary pass (vktg/silhouette_edges.h): which edges can be
+// silhouettes, their face directions, and the selection CDF by length.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "vktg/silhouette_edges.h"
+
+namespace vktg {
+namespace {
+
+Scene sceneWith(const std::string& shapes) {
+  std::string text = R"({"version": 1,
+    "camera": {"type": "perspective", "position": [0, 0, 5], "look_at": [0, 0, 0], "fov_y": 40, "resolution": [8, 8]},
+    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "lights": [{"type": "point", "position": [0, 2, 2], "intensity": 1}],
+    "shapes": [)" + shapes + "]}";
+  return parseSceneJson(text, "test.json", ".");
+}
+
+double lengthOf(const gpu::GpuEdge& e) { return glm::length(glm::vec3(e.p1) - glm::vec3(e.p0)); }
+
+void expectValidCdf(const std::vector<gpu::GpuEdge>& edges) {
+  double total = 0, previous = 0, pmfSum = 0;
+  for (const gpu::GpuEdge& e : edges) total += lengthOf(e);
+  for (const gpu::GpuEdge& e : edges) {
+    EXPECT_GE(e.inward0.w, previous);
+    EXPECT_NEAR(e.inward1.w, lengthOf(e) / total, 1e-6);
+    pmfSum += e.inward1.w;
+    previous = e.inward0.w;
+    // Face directions: unit, perpendicular to the edge.
+    glm::vec3 along = glm::normalize(glm::vec3(e.p1) - glm::vec3(e.p0));
+    EXPECT_NEAR(glm::length(glm::vec3(e.inward0)), 1.0, 1e-5);
+    EXPECT_NEAR(glm::dot(glm::vec3(e.inward0), along), 0.0, 1e-5);
+  }
+  EXPECT_FLOAT_EQ(edges.back().inward0.w, 1.0f);
+  EXPECT_NEAR(pmfSum, 1.0, 1e-5);
+}
+
+TEST(SilhouetteEdges, RectangleKeepsItsRimAndDropsItsDiagonal) {
+  Scene scene = sceneWith(R"({"name": "r", "type": "rectangle", "material": "m", "transform": {"scale": 2}})");
+  std::vector<gpu::GpuEdge> edges = silhouetteEdges(prepareScene(scene));
+  ASSERT_EQ(edges.size(), 4u);  // the two triangles' shared diagonal is a flat crease
+  for (const gpu::GpuEdge& e : edges) {
+    EXPECT_EQ(glm::length(glm::vec3(e.inward1)), 0.0f) << "a rim edge has one face";
+    EXPECT_NEAR(lengthOf(e), 4.0, 1e-5);  // scale 2 of the unit-half-size square
+    // The face direction points into the rectangle: towards its centre.
+    glm::vec3 mid = 0.5f * (glm::vec3(e.p0) + glm::vec3(e.p1));
+    EXPECT_GT(glm::dot(glm::vec3(e.inward0), -mid), 0.0f);
+  }
+  expectValidCdf(edges);
+}
+
+TEST(SilhouetteEdges, CubeKeepsItsTwelveCreases) {
+  Scene scene = sceneWith(R"({"name": "c", "type": "cube", "material": "m"})");
+  std::vector<gpu::GpuEdge> edges = silhouetteEdges(prepareScene(scene));
+  ASSERT_EQ(edges.size(), 12u);  // face diagonals are flat creases
+  for (const gpu::GpuEdge& e : edges) {
+    glm::vec3 i0(e.inward0), i1(e.inward1);
+    EXPECT_NEAR(glm::length(i1), 1.0, 1e-5) << "every cube edge joins two faces";
+    EXPECT_NEAR(glm::dot(i0, i1), 0.0, 1e-5) << "cube faces meet at right angles";
+  }
+  expectValidCdf(edges);
+}
+
+TEST(SilhouetteEdges, SeparateShapesSharingAnEdgePositionAreOneCrease) {
+  // A wall standing on the rectangle's rim at x = 1 (its own vertices, same positions): one
+  // crease at 90 degrees, not two boundary edges.
+  Scene scene = sceneWith(R"({"name": "a", "type": "rectangle", "material": "m"})");
+  Shape wall;
+  wall.name = "wall";
+  wall.positions = {{1, -1, 0}, {1, 1, 0}, {1, 1, 2}, {1, -1, 2}};
+  wall.triangles = {{0, 1, 2}, {0, 2, 3}};
+  scene.shapes.push_back(wall);
+  std::vector<gpu::GpuEdge> edges = silhouetteEdges(prepareScene(scene));
+  int creases = 0;
+  for (const gpu::GpuEdge& e : edges) creases += glm::length(glm::vec3(e.inward1)) > 0.0f;
+  EXPECT_EQ(edges.size(), 7u);
+  EXPECT_EQ(creases, 1);
+  expectValidCdf(edges);
+}
+
+}  // namespace
+}  // namespace vktg
