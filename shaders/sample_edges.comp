@@ -39,6 +39,7 @@ layout(push_constant) uniform Push { PassPush push; };
 const float kEdgeOffsetEpsilons = 8.0;
 // Strategy probabilities: shadows of direct light are usually the largest secondary share and the
 // uniform direction rarely finds a small light, hence the split.
+const uint kRngDimEdgeWalk = 8u;  // + walk step: the camera side's numbers (stream kNoPixel)
 const float kPrimaryProbability = 0.35, kToLightProbability = 0.45, kSecondaryProbability = 0.2;
 
 // The camera's importance per unit solid angle for a ray leaving it along unit `dir`, and the
@@ -75,6 +76,13 @@ vec3 rayVelocity(uint triangle, vec2 uv, vec3 dir, uint lane) {
   Dual3 p0, p1, p2;
   triangleDual(triangle, lane, p0, p1, p2);
   return rayHitDual(dir, p0, p1, p2, uv).d;
+}
+
+// Velocity of the boundary segment's end x_a at depth `depth`: on its camera ray behind a pinhole
+// when it is the first hit (the interior pass's parametrisation), else a material point.
+vec3 firstHitVelocity(uint triangle, vec2 uv, uint depth, vec3 cameraRay, uint lane) {
+  bool rayForm = depth == 1u && kSpecCameraTypeValue == kCameraPerspective;
+  return rayForm ? rayVelocity(triangle, uv, cameraRay, lane) : surfaceVelocity(triangle, uv, lane);
 }
 
 vec3 edgePointVelocity(GpuEdge e, float t, uint lane) {
@@ -146,20 +154,79 @@ void primarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float p
                 sampleIndex, 0u);
 }
 
-// The camera's view of a first hit x_a: importance times the geometry term of x_a -> camera
-// (0 if hidden or outside the image), its pixel, and the unit direction to the camera.
-float cameraConnection(SurfacePoint xa, out uint pixel, out vec3 wc, out float r) {
+// The camera's view of a surface point: importance times the geometry term of point -> camera
+// (0 if hidden or outside the image), its pixel, and the distance and unit direction to the camera.
+float cameraConnection(vec3 position, vec3 normal, out uint pixel, out vec3 wc, out float r) {
   vec3 c = frame.cameraPosition.xyz;
-  r = distance(c, xa.position);
+  r = distance(c, position);
   pixel = kNoPixel;
   wc = vec3(0.0);
   if (!(r > 0.0)) return 0.0;
-  wc = (c - xa.position) / r;
+  wc = (c - position) / r;
   float importance = cameraImportance(-wc, pixel);
   if (importance == 0.0) return 0.0;
   float eps = frame.sceneInfo.x;
-  if (r > 2.0 * eps && traceAny(xa.position, wc, eps, r - eps)) return 0.0;
-  return importance * abs(dot(xa.normal, wc)) / (r * r);
+  if (r > 2.0 * eps && traceAny(position, wc, eps, r - eps)) return 0.0;
+  return importance * abs(dot(normal, wc)) / (r * r);
+}
+
+// The camera side of a boundary segment that leaves x_a along w: a walk of c >= 1 segments back
+// to the camera, so the boundary segment can sit at any depth of the path. At each vertex the walk
+// connects to the camera with probability kConnectProbability (always at its last allowed vertex)
+// or samples the BSDF away from it (reciprocal BSDFs: the walk runs against the light's direction).
+// It does not continue through a dielectric (refraction would need the adjoint 1/eta^2 and the
+// optical length inside): boundary segments seen only through glass are sampled at depth 1 only. Returns the camera side's
+// weight including f at x_a (0 on failure), with the pixel, the camera side's optical length, c
+// (x_a's depth), the camera's direction from x_a when c = 1 (for its ray-form velocity) and the
+// IOR of the medium the boundary segment runs in.
+const float kConnectProbability = 0.5;
+
+float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out float len, out uint depth,
+                 out vec3 cameraRay, out float ior) {
+  GpuMaterial ma = materials[shapes[xa.shape].material];
+  pixel = kNoPixel;
+  len = 0.0;
+  depth = 0u;
+  cameraRay = vec3(0.0);
+  ior = 1.0;
+  // Segments the camera side may use: the boundary segment needs one, the rest of the path none.
+  uint maxSegments = frame.gateInfo.w > 1u ? frame.gateInfo.w - 1u : 0u;
+  vec3 position = xa.position, normal = xa.normal, toward = w;  // toward: away from the camera side
+  GpuMaterial m = ma;
+  float weight = 1.0, comp = 0.0;
+  for (uint c = 1u; c <= maxSegments; ++c) {
+    Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimEdgeWalk + c, frame.image.w);
+    vec4 u = rngNext4(rng);
+    bool last = c == maxSegments;
+    if (last || u.w < kConnectProbability) {
+      vec3 wc;
+      float r;
+      float camera = cameraConnection(position, normal, pixel, wc, r);
+      if (camera == 0.0) return 0.0;
+      float f = bsdfEval(m, normal, wc, toward);
+      if (f == 0.0) return 0.0;
+      if (c == 1u) {
+        cameraRay = -wc;
+        if (dot(normal, toward) * dot(normal, wc) < 0.0) ior = dot(normal, toward) < 0.0 ? m.ior : 1.0;
+      }
+      addLength(len, comp, r);
+      depth = c;
+      return weight * camera * f / (last ? 1.0 : kConnectProbability);
+    }
+    BsdfSample bs;
+    if (m.type == kMaterialDielectric || !bsdfSample(m, normal, toward, u.xyz, bs)) return 0.0;
+    weight *= bs.weight / (1.0 - kConnectProbability);
+    HitRecord hit;
+    if (!traceClosest(position, bs.wo, frame.sceneInfo.x, kInfinity, hit)) return 0.0;
+    SurfacePoint next = surfacePoint(floatBitsToUint(hit.tuvTriangle.w), hit.tuvTriangle.yz);
+    addLength(len, comp, distance(position, next.position));
+    if (len > frame.gateSupport.y) return 0.0;  // the path is already past the gate
+    toward = -bs.wo;
+    position = next.position;
+    normal = next.normal;
+    m = materials[shapes[next.shape].material];
+  }
+  return 0.0;
 }
 
 void secondarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float pY, float offset, vec2 uDir) {
@@ -175,27 +242,21 @@ void secondarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float
   uint ta = floatBitsToUint(ha.tuvTriangle.w), tb = floatBitsToUint(hb.tuvTriangle.w);
   SurfacePoint xa = surfacePoint(ta, ha.tuvTriangle.yz);
   SurfacePoint xb = surfacePoint(tb, hb.tuvTriangle.yz);
-  uint pixel;
-  vec3 wc;
-  float r;
-  float camera = cameraConnection(xa, pixel, wc, r);
+  uint pixel, depth;
+  float len, ior;
+  vec3 cameraRay;
+  float camera = cameraSide(xa, w, sampleIndex, pixel, len, depth, cameraRay, ior);
   if (camera == 0.0) return;
-  GpuMaterial ma = materials[shapes[xa.shape].material];
-  float fa = bsdfEval(ma, xa.normal, wc, w);
-  if (fa == 0.0) return;
   atomicAdd(counters[kCounterEdgeConnected], 1u);
   // 1 / p_w = 4 pi for the uniform direction.
-  float weight = camera * fa * sinPhi * 4.0 * kPi / (pY * kSecondaryProbability);
-  float ior = 1.0;
-  if (dot(xa.normal, w) * dot(xa.normal, wc) < 0.0) ior = dot(xa.normal, w) < 0.0 ? ma.ior : 1.0;
+  float weight = camera * sinPhi * 4.0 * kPi / (pY * kSecondaryProbability);
   float dA = distance(y, xa.position), dB = distance(xb.position, y);
-  bool pinhole = kSpecCameraTypeValue == kCameraPerspective;
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
-    vec3 vA = pinhole ? rayVelocity(ta, ha.tuvTriangle.yz, -wc, lane) : surfaceVelocity(ta, ha.tuvTriangle.yz, lane);
+    vec3 vA = firstHitVelocity(ta, ha.tuvTriangle.yz, depth, cameraRay, lane);
     vec3 vB = surfaceVelocity(tb, hb.tuvTriangle.yz, lane);
     setFactor(2u * i, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vA, vB, dA, dB, np));
   }
-  startEdgePath(2u * i, xa.position, frame.cameraPosition.xyz, ta, xa.normal, r, w, hb, weight, ior, 1u, pixel, sampleIndex,
+  startEdgePath(2u * i, xa.position, xa.position, ta, xa.normal, len, w, hb, weight, ior, depth, pixel, sampleIndex,
                 kPathFlagNoArrivalEmission);
 }
 
@@ -227,25 +288,19 @@ void toLightSample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float p
   if (!traceClosest(yv, -w, 0.0, kInfinity, ha)) return;
   uint ta = floatBitsToUint(ha.tuvTriangle.w);
   SurfacePoint xa = surfacePoint(ta, ha.tuvTriangle.yz);
-  uint pixel;
-  vec3 wc;
-  float r;
-  float camera = cameraConnection(xa, pixel, wc, r);
+  uint pixel, depth;
+  float len, ior;
+  vec3 cameraRay;
+  float camera = cameraSide(xa, w, sampleIndex, pixel, len, depth, cameraRay, ior);
   if (camera == 0.0) return;
-  GpuMaterial ma = materials[shapes[xa.shape].material];
-  float fa = bsdfEval(ma, xa.normal, wc, w);
-  if (fa == 0.0) return;
   atomicAdd(counters[kCounterEdgeConnected], 1u);
-  float ior = 1.0;
-  if (dot(xa.normal, w) * dot(xa.normal, wc) < 0.0) ior = dot(xa.normal, w) < 0.0 ? ma.ior : 1.0;
   float dA = distance(y, xa.position);
-  float value = camera * fa * ls.emission * sinPhi * cosB / (dB * dB * ls.pdf * pY * kToLightProbability);
-  float len = r, comp = 0.0;
+  float value = camera * ls.emission * sinPhi * cosB / (dB * dB * ls.pdf * pY * kToLightProbability);
+  float comp = 0.0;
   addLength(len, comp, distance(xa.position, ls.position) * ior);
   uint slot = 2u * i + 1u;
-  bool pinhole = kSpecCameraTypeValue == kCameraPerspective;
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
-    vec3 vA = pinhole ? rayVelocity(ta, ha.tuvTriangle.yz, -wc, lane) : surfaceVelocity(ta, ha.tuvTriangle.yz, lane);
+    vec3 vA = firstHitVelocity(ta, ha.tuvTriangle.yz, depth, cameraRay, lane);
     vec3 vB = lightDual(ls, lane).position.d;
     setFactor(slot, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vA, vB, dA, dB, np));
   }
