@@ -1,5 +1,5 @@
 // The path-length-boundary term (THEORY.md §3) and the interior term beside it, on scenes without
-// occlusion or moving silhouettes (the visibility-edge term is not implemented):
+// occlusion or moving silhouettes (the edge pass is left out here; tests/grad_edge.cpp runs it):
 //  1. closed forms on the confocal plane with a box gate: the total derivative of the plane's
 //     translation along its normal and of the gate centre, and each term on its own;
 //  2. central finite differences (common random numbers, spread over seeds) for the confocal

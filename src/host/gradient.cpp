@@ -130,22 +130,17 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
     result.primal = renderer.render(scene, base);
     addStats(result.stats, result.primal.stats);
   }
-  if (result.plan.edges) {
-    Scene edgeScene = scene;
-    if (options.sppEdge > 0) edgeScene.render.spp = options.sppEdge;
-    RenderOptions edge = base;
-    edge.edges = true;
-    result.edges = renderTerm(renderer, edgeScene, bindings, edge, result.stats, nullptr);
-    accumulateTerm(result.total, result.edges);
-  }
-  if (result.plan.pathLength) {
-    Scene boundaryScene = scene;
-    if (options.sppBoundary > 0) boundaryScene.render.spp = options.sppBoundary;
-    RenderOptions boundary = base;
-    boundary.pathLengthBoundary = true;
-    result.pathLength = renderTerm(renderer, boundaryScene, bindings, boundary, result.stats, nullptr);
-    accumulateTerm(result.total, result.pathLength);
-  }
+  // A boundary term: its own render with its own budget (0: the scene's spp).
+  auto boundaryTerm = [&](uint32_t spp, bool RenderOptions::*which, TermImages& out) {
+    Scene termScene = scene;
+    if (spp > 0) termScene.render.spp = spp;
+    RenderOptions term = base;
+    term.*which = true;
+    out = renderTerm(renderer, termScene, bindings, term, result.stats, nullptr);
+    accumulateTerm(result.total, out);
+  };
+  if (result.plan.edges) boundaryTerm(options.sppEdge, &RenderOptions::edges, result.edges);
+  if (result.plan.pathLength) boundaryTerm(options.sppBoundary, &RenderOptions::pathLengthBoundary, result.pathLength);
   if (result.total.derivatives.empty()) throw Error("--terms: no derivative term selected");
   return result;
 }
