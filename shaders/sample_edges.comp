@@ -229,6 +229,31 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
   return 0.0;
 }
 
+// The end x_a of a boundary segment that leaves it along w, and its camera side: the first hit
+// from yv (beside the edge) along -w, and cameraSide's walk from it.
+struct CameraEnd {
+  SurfacePoint point;
+  uint triangle;
+  vec2 uv;
+  float weight;   // cameraSide's weight (> 0 when found)
+  uint pixel, depth;
+  float len, ior;
+  vec3 cameraRay;
+};
+
+bool findCameraEnd(vec3 yv, vec3 w, uint sampleIndex, out CameraEnd a) {
+  a.weight = 0.0;
+  HitRecord ha;
+  if (!traceClosest(yv, -w, 0.0, kInfinity, ha)) return false;
+  a.triangle = floatBitsToUint(ha.tuvTriangle.w);
+  a.uv = ha.tuvTriangle.yz;
+  a.point = surfacePoint(a.triangle, a.uv);
+  a.weight = cameraSide(a.point, w, sampleIndex, a.pixel, a.len, a.depth, a.cameraRay, a.ior);
+  if (a.weight == 0.0) return false;
+  atomicAdd(counters[kCounterEdgeConnected], 1u);
+  return true;
+}
+
 void secondarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float pY, float offset, vec2 uDir) {
   vec3 w = sampleUniformSphere(uDir);
   vec3 np;
@@ -236,28 +261,21 @@ void secondarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float
   if (!silhouettePlane(e, w, np, sinPhi)) return;
   atomicAdd(counters[kCounterEdgeSilhouettes], 1u);
   vec3 yv = y + offset * np;
-  HitRecord hb, ha;
+  HitRecord hb;
   if (!traceClosest(yv, w, 0.0, kInfinity, hb)) return;
-  if (!traceClosest(yv, -w, 0.0, kInfinity, ha)) return;
-  uint ta = floatBitsToUint(ha.tuvTriangle.w), tb = floatBitsToUint(hb.tuvTriangle.w);
-  SurfacePoint xa = surfacePoint(ta, ha.tuvTriangle.yz);
-  SurfacePoint xb = surfacePoint(tb, hb.tuvTriangle.yz);
-  uint pixel, depth;
-  float len, ior;
-  vec3 cameraRay;
-  float camera = cameraSide(xa, w, sampleIndex, pixel, len, depth, cameraRay, ior);
-  if (camera == 0.0) return;
-  atomicAdd(counters[kCounterEdgeConnected], 1u);
+  CameraEnd a;
+  if (!findCameraEnd(yv, w, sampleIndex, a)) return;
+  uint tb = floatBitsToUint(hb.tuvTriangle.w);
   // 1 / p_w = 4 pi for the uniform direction.
-  float weight = camera * sinPhi * 4.0 * kPi / (pY * kSecondaryProbability);
-  float dA = distance(y, xa.position), dB = distance(xb.position, y);
+  float weight = a.weight * sinPhi * 4.0 * kPi / (pY * kSecondaryProbability);
+  float dA = distance(y, a.point.position), dB = distance(surfacePoint(tb, hb.tuvTriangle.yz).position, y);
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
-    vec3 vA = firstHitVelocity(ta, ha.tuvTriangle.yz, depth, cameraRay, lane);
+    vec3 vA = firstHitVelocity(a.triangle, a.uv, a.depth, a.cameraRay, lane);
     vec3 vB = surfaceVelocity(tb, hb.tuvTriangle.yz, lane);
     setFactor(2u * i, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vA, vB, dA, dB, np));
   }
-  startEdgePath(2u * i, xa.position, xa.position, ta, xa.normal, len, w, hb, weight, ior, depth, pixel, sampleIndex,
-                kPathFlagNoArrivalEmission);
+  startEdgePath(2u * i, a.point.position, a.point.position, a.triangle, a.point.normal, a.len, w, hb, weight, a.ior,
+                a.depth, a.pixel, sampleIndex, kPathFlagNoArrivalEmission);
 }
 
 // Direct light through the boundary: x_b a light sample, the segment x_b -> y -> x_a. Changing
@@ -284,27 +302,19 @@ void toLightSample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float p
   vec3 toLight = ls.position - yv;
   float lightDistance = length(toLight);
   if (lightDistance > 2.0 * eps && traceAny(yv, toLight / lightDistance, eps, lightDistance - eps)) return;
-  HitRecord ha;
-  if (!traceClosest(yv, -w, 0.0, kInfinity, ha)) return;
-  uint ta = floatBitsToUint(ha.tuvTriangle.w);
-  SurfacePoint xa = surfacePoint(ta, ha.tuvTriangle.yz);
-  uint pixel, depth;
-  float len, ior;
-  vec3 cameraRay;
-  float camera = cameraSide(xa, w, sampleIndex, pixel, len, depth, cameraRay, ior);
-  if (camera == 0.0) return;
-  atomicAdd(counters[kCounterEdgeConnected], 1u);
-  float dA = distance(y, xa.position);
-  float value = camera * ls.emission * sinPhi * cosB / (dB * dB * ls.pdf * pY * kToLightProbability);
-  float comp = 0.0;
-  addLength(len, comp, distance(xa.position, ls.position) * ior);
+  CameraEnd a;
+  if (!findCameraEnd(yv, w, sampleIndex, a)) return;
+  float dA = distance(y, a.point.position);
+  float value = a.weight * ls.emission * sinPhi * cosB / (dB * dB * ls.pdf * pY * kToLightProbability);
+  float len = a.len, comp = 0.0;
+  addLength(len, comp, distance(a.point.position, ls.position) * a.ior);
   uint slot = 2u * i + 1u;
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
-    vec3 vA = firstHitVelocity(ta, ha.tuvTriangle.yz, depth, cameraRay, lane);
+    vec3 vA = firstHitVelocity(a.triangle, a.uv, a.depth, a.cameraRay, lane);
     vec3 vB = lightDual(ls, lane).position.d;
     setFactor(slot, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vA, vB, dA, dB, np));
   }
-  paths[slot].ids.x = pixel;
+  paths[slot].ids.x = a.pixel;
   addContribution(slot, value, len);
 }
 
