@@ -1,4 +1,5 @@
-// Antithetic pairs for near-delta gaussian gates (THEORY.md §5) on the confocal plane with
+// Antithetic pairs (THEORY.md §5).
+// Interior term, near-delta gaussian gates, on the confocal plane with
 // ellipsoidal NEE (the only sampler whose path lengths come from the gate): for sigma/mu = 1e-2 and
 // 1e-3, the antithetic and plain estimators agree in mean (the image, the interior derivative of
 // the plane's translation along its normal and of the gate centre), both agree with the exact
@@ -8,6 +9,13 @@
 // confocalGated, 16-point Gauss-Legendre on 256 panels), differentiated by central differences in
 // double: in h with step 1e-4 (M is smooth in h on the scale h), in the gate centre with step
 // sigma / 1000 (truncation ~1e-7 relative).
+//
+// Path-length-boundary term, narrow box gates [mu (1 - r), mu (1 + r)]: the pass connects to both
+// jumps with shared random numbers instead of choosing one. On the confocal plane (r = 1e-2, 1e-3;
+// closed forms in tests/grad_boundary.cpp) and on the separated sensor and light with the light
+// moving (r = 1e-2; no closed form: antithetic against plain, and each against finite
+// differences would need an FD step below the gate's width, so only the two estimators meet), the
+// two estimators agree in mean, and the antithetic variance is lower at equal samples.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -121,6 +129,88 @@ void checkGate(double sigmaOverMu, uint32_t seed) {
 TEST(GradAntithetic, NearDeltaSigmaOverMu1em2) { checkGate(1e-2, 101); }
 
 TEST(GradAntithetic, NearDeltaSigmaOverMu1em3) { checkGate(1e-3, 201); }
+
+// The path-length-boundary term alone (no interior pass) of `parameters`, pairs on or off.
+TermImages boundaryTerm(const Scene& scene, const std::vector<std::string>& parameters, AntitheticMode mode) {
+  GradientOptions options;
+  options.render.nee = NeeMode::Ellipsoidal;
+  options.antithetic = mode;
+  options.interior = options.edges = false;
+  GradientResult g = renderGradient(testRenderer(), scene, parameters, options);
+  EXPECT_EQ(g.stats.nonFinite, 0u);
+  EXPECT_TRUE(g.plan.pathLength);
+  EXPECT_EQ(g.plan.antithetic, mode == AntitheticMode::On);
+  std::printf("    %s: %.2f s, ellipsoid queries %llu\n", mode == AntitheticMode::On ? "antithetic" : "plain",
+              g.stats.seconds, (unsigned long long)g.stats.ellipsoidQueries);
+  return g.pathLength;
+}
+
+// Antithetic against plain (and each against `exact` when given) for every parameter; returns the
+// variance ratios antithetic / plain. `jumpScale`: the size of one jump's share of the term, which
+// sets the float32 rounding of the pairs' difference (see checkBoxPairs).
+std::vector<double> compareBoundary(const Scene& scene, const std::vector<std::string>& parameters,
+                                    const std::vector<double>& exact, const std::vector<double>& jumpScale = {}) {
+  TermImages plain = boundaryTerm(scene, parameters, AntitheticMode::Off);
+  Scene other = scene;
+  other.render.seed += 1;
+  TermImages pairs = boundaryTerm(other, parameters, AntitheticMode::On);
+  size_t comparisons = parameters.size() * (exact.empty() ? 1 : 3);
+  std::vector<double> ratios;
+  for (size_t p = 0; p < parameters.size(); ++p) {
+    LayerEstimate a = layerOf(pairs.derivatives[p], pairs.variances[p], 0);
+    LayerEstimate b = layerOf(plain.derivatives[p], plain.variances[p], 0);
+    auto agree = [&](const std::string& what, const LayerEstimate& x, const LayerEstimate& y) {
+      PixelCheck c = checkPixels(x, y, sidakLevel(kAlpha, comparisons));
+      EXPECT_EQ(c.rejected, 0u) << what << ": " << c.worst;
+      std::printf("    %-40s %s\n", what.c_str(), c.worst.c_str());
+    };
+    agree("d/d" + parameters[p] + " boundary: antithetic vs plain", a, b);
+    if (!exact.empty()) {
+      double floor = std::ldexp(1.0, -19) * jumpScale[p] / std::abs(exact[p]);
+      agree("d/d" + parameters[p] + " boundary: antithetic vs exact", a, exactLayer({exact[p]}, floor));
+      agree("d/d" + parameters[p] + " boundary: plain vs exact", b, exactLayer({exact[p]}));
+    }
+    ratios.push_back(a.variance[0] / b.variance[0]);
+    std::printf("    d/d%s variance ratio antithetic / plain (equal samples, twice the connections): %.3g\n",
+                parameters[p].c_str(), ratios.back());
+  }
+  return ratios;
+}
+
+void checkBoxPairs(double r, uint32_t seed) {
+  double a = kMu * (1 - r), b = kMu * (1 + r);
+  std::printf("  confocal box [%g, %g]\n", a, b);
+  Scene scene = boundary::confocalBoxScene(a, b, kSpp, seed);
+  std::vector<double> exact = {-boundary::confocalBoxDh(kHeight, a, b).boundary, boundary::confocalBoxDc(kHeight, a, b)};
+  // Each pair is the difference of two float32 connections of nearly equal size (the jump at a
+  // alone: 2 rho I h^4 (a/2)^-7 for t, rho I h^3 (a/2)^-6 for c); on the confocal plane the pair's
+  // standard error is far below their rounding, so allow 32 ulps of one connection as a floor
+  // (measured at r = 1e-3: 7 ulps off).
+  std::vector<double> jumpScale = {2 * kRho * kIntensity * std::pow(kHeight, 4) * std::pow(a / 2, -7.0),
+                                   kRho * kIntensity * std::pow(kHeight, 3) * std::pow(a / 2, -6.0)};
+  for (double ratio : compareBoundary(scene, {"t", "c"}, exact, jumpScale))
+    EXPECT_LT(ratio, kMaxVarianceRatio) << "antithetic pairs did not lower the boundary term's variance";
+}
+
+TEST(GradAntithetic, BoundaryPairsBoxWidth1em2) { checkBoxPairs(1e-2, 301); }
+
+TEST(GradAntithetic, BoundaryPairsBoxWidth1em3) { checkBoxPairs(1e-3, 401); }
+
+// Sensor and light 1 apart at height 1: the jumps' ellipses carry a varying integrand (on the
+// confocal plane each jump's circle carries a constant one).
+TEST(GradAntithetic, BoundaryPairsSeparatedLight) {
+  Scene scene = separatedPlaneScene(1.0, 1.0, 2.0, 2.0, kRho, kIntensity);
+  scene.gate.type = GateType::Box;
+  scene.gate.a = kMu * (1 - 1e-2);
+  scene.gate.b = kMu * (1 + 1e-2);
+  scene.render.spp = kSpp;
+  scene.render.seed = 501;
+  scene.render.maxDepth = 2;
+  addLightMove(scene, "lx", "light", {1.0f, 0.0f, 0.0f});
+  addLightMove(scene, "lz", "light", {0.0f, 0.0f, 1.0f});
+  for (double ratio : compareBoundary(scene, {"lx", "lz"}, {}))
+    EXPECT_LT(ratio, kMaxVarianceRatio) << "antithetic pairs did not lower the boundary term's variance";
+}
 
 }  // namespace
 }  // namespace vktg::test

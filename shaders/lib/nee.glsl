@@ -182,8 +182,12 @@ void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllip
 }
 
 // Path-length boundary (THEORY.md §3): a path placed exactly on L = s_j by an ellipsoidal
-// connection, s_j one of the gate's jumps beyond the straight-line reach, chosen uniformly
-// (weight: their count). trace_shadow_rays_d multiplies by ΔW(s_j) dL/dθ.
+// connection from `v` to a light sample, s_j a gate jump beyond the straight-line reach
+// v.len + |v - light|. trace_shadow_rays_d multiplies by ΔW(s_j) dL/dθ.
+//   plain: one such jump, chosen uniformly (weight: their count);
+//   antithetic (two-jump gates, THEORY.md §5): every such jump, all sharing the light sample and
+//     the ellipsoid's random numbers. The jumps' ΔW have opposite signs, and for a narrow gate the
+//     two connections land on nearly the same point, so their large values cancel in the sum.
 void pathLengthBoundaryConnection(uint path, NeeVertex v, float uJump, vec3 uLight, vec4 uEllipsoid) {
   LightSample ls;
   if (!sampleLight(uLight, ls)) return;
@@ -191,6 +195,11 @@ void pathLengthBoundaryConnection(uint path, NeeVertex v, float uJump, vec3 uLig
   uint count = gateJumpCount();
   if (first >= count) return;
   uint choices = count - first;
+  if (kSpecAntitheticValue != 0u && count == 2u) {
+    for (uint j = first; j < count; ++j)
+      ellipsoidalConnection(path, v, gateJumpLocation(j), 1.0, 1.0, ls, uEllipsoid, j);
+    return;
+  }
   uint j = first + min(uint(uJump * float(choices)), choices - 1u);
   ellipsoidalConnection(path, v, gateJumpLocation(j), float(choices), 1.0, ls, uEllipsoid, j);
 }

@@ -65,7 +65,7 @@ const CommandSpec& gradSpec() {
     s.options.push_back({"--split-terms", "", "also write each term's images (FILE.interior.exr, FILE.edge.exr, FILE.pathlength.exr)"});
     s.options.push_back({"--spp-boundary", "N", "samples per pixel of the path-length-boundary pass (default: --spp)"});
     s.options.push_back({"--spp-edge", "N", "edge samples per pixel, on average, of the edge pass (default: --spp)"});
-    s.options.push_back({"--antithetic", "MODE", "auto | on | off: antithetic pairs for near-delta gaussian gates (default auto)"});
+    s.options.push_back({"--antithetic", "MODE", "auto | on | off: antithetic pairs (mirrored lengths of a gaussian gate; both jumps of a box or truncated gaussian in the path-length-boundary pass), auto: for near-delta gates (default)"});
     s.options.push_back({"--explain", "", "print the planner's choices and why"});
     s.examples = "  vktg grad scenes/occluder_shadow.json --param occluder_x,floor_albedo\n"
                  "  vktg grad scenes/confocal_plane.json --param '*' --spp 100000\n";

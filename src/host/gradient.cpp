@@ -52,15 +52,22 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
     plan.reasons.push_back("path-length-boundary pass: the gate jumps at " + std::to_string(gate.jumpLocations().size()) +
                            " lengths and parameters move path lengths across them");
   }
-  bool nearDelta = gate.type == GateType::Gaussian && gate.sigma <= kNearDeltaSigmaOverMu * gate.mu;
+  // Antithetic pairs (THEORY.md §5): mirrored lengths s, 2 mu - s in the interior pass of a
+  // gaussian gate; both jumps of a box or truncated gaussian, sharing their random numbers, in the
+  // path-length-boundary pass. Near-delta: the gate this narrow relative to its centre.
+  bool twoJumps = gate.type == GateType::Box || gate.type == GateType::TruncatedGaussian;
+  bool nearDelta = (gate.type == GateType::Gaussian && gate.sigma <= kNearDeltaSigmaOverMu * gate.mu) ||
+                   (twoJumps && gate.b - gate.a <= kNearDeltaSigmaOverMu * (gate.a + gate.b));
   plan.antithetic = options.antithetic == AntitheticMode::On ||
                     (options.antithetic == AntitheticMode::Auto && nearDelta);
-  if (plan.antithetic && gate.type != GateType::Gaussian) {
-    plan.antithetic = false;
-    plan.reasons.push_back("no antithetic pairs: they mirror about the centre of a gaussian gate");
+  std::string why = nearDelta ? "the gate is near-delta (width/centre <= 1e-2)" : "requested";
+  if (plan.antithetic && gate.type == GateType::Gaussian) {
+    plan.reasons.push_back("antithetic pairs s, 2 mu - s for the ellipsoidal connections: " + why);
+  } else if (plan.antithetic && twoJumps && plan.pathLength) {
+    plan.reasons.push_back("antithetic pairs in the path-length-boundary pass (both jumps from one set of random numbers): " + why);
   } else if (plan.antithetic) {
-    plan.reasons.push_back(nearDelta ? "antithetic pairs s, 2 mu - s for the ellipsoidal connections: the gaussian gate is near-delta (sigma/mu <= 1e-2)"
-                                     : "antithetic pairs: requested");
+    plan.antithetic = false;
+    plan.reasons.push_back("no antithetic pairs: they pair the mirrored lengths of a gaussian gate or the two jumps of a box or truncated gaussian in the path-length-boundary pass");
   }
   if (!options.edges) {
     plan.reasons.push_back("edge (visibility-boundary) term: not requested");
@@ -122,7 +129,9 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
   result.parameters = parameters;
   result.plan = planGradient(scene, parameters, options);
   RenderOptions base = options.render;
-  base.antithetic = result.plan.antithetic;
+  // The interior pass pairs mirrored lengths of gaussian gates only; the path-length-boundary
+  // pass (two-jump gates) turns the pairs on below.
+  base.antithetic = result.plan.antithetic && scene.gate.type == GateType::Gaussian;
   if (result.plan.interior) {
     result.interior = renderTerm(renderer, scene, bindings, base, result.stats, &result.primal);
     accumulateTerm(result.total, result.interior);
@@ -136,6 +145,7 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
     if (spp > 0) termScene.render.spp = spp;
     RenderOptions term = base;
     term.*which = true;
+    term.antithetic = result.plan.antithetic && which == &RenderOptions::pathLengthBoundary;
     out = renderTerm(renderer, termScene, bindings, term, result.stats, nullptr);
     accumulateTerm(result.total, out);
   };

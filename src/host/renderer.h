@@ -29,7 +29,8 @@ struct RenderOptions {
   // Or the visibility-boundary (edge) term: scene.render.spp edge samples per pixel on average
   // (sample_edges), splatted into the pixels their camera connections reach.
   bool edges = false;
-  // Ellipsoidal connections in antithetic pairs s, 2 mu - s (gaussian gates; THEORY.md §5).
+  // Antithetic pairs (THEORY.md §5): ellipsoidal connections at s and 2 mu - s (gaussian gates);
+  // in the path-length-boundary term, connections to both jumps of a box or truncated gaussian.
   bool antithetic = false;
 };
 
