@@ -90,6 +90,24 @@ uint gateFirstJumpAbove(float len) {
   return j;
 }
 
+// The jumps a path-length-boundary sample connects to, among those beyond `reach` (no shorter
+// path exists): first, first + 1, ... (the count is returned), each with weight `weight`.
+//   plain: one, chosen uniformly (weight: their count);
+//   antithetic (two-jump gates, THEORY.md §5): all, sharing every other random number (weight 1).
+//     Their ΔW have opposite signs, and for a narrow gate both connections land on nearly the
+//     same point, so their large values cancel in the sum.
+uint gateBoundaryJumps(float reach, float uJump, out uint first, out float weight) {
+  uint count = gateJumpCount();
+  first = gateFirstJumpAbove(reach);
+  weight = 1.0;
+  if (first >= count) return 0u;
+  uint choices = count - first;
+  if (kSpecAntitheticValue != 0u && count == 2u) return choices;
+  first += min(uint(uJump * float(choices)), choices - 1u);
+  weight = float(choices);
+  return 1u;
+}
+
 // The density gateSampleLength draws s from (for MIS weights of other strategies' paths).
 float gateSamplePdf(float s) {
   if (kSpecGateTypeValue == kGateGaussian) {

@@ -181,27 +181,17 @@ void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllip
   if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 1.0, ls, uEllipsoid, 0xffffffffu);
 }
 
-// Path-length boundary (THEORY.md §3): a path placed exactly on L = s_j by an ellipsoidal
-// connection from `v` to a light sample, s_j a gate jump beyond the straight-line reach
-// v.len + |v - light|. trace_shadow_rays_d multiplies by ΔW(s_j) dL/dθ.
-//   plain: one such jump, chosen uniformly (weight: their count);
-//   antithetic (two-jump gates, THEORY.md §5): every such jump, all sharing the light sample and
-//     the ellipsoid's random numbers. The jumps' ΔW have opposite signs, and for a narrow gate the
-//     two connections land on nearly the same point, so their large values cancel in the sum.
+// Path-length boundary (THEORY.md §3): paths placed exactly on L = s_j by ellipsoidal
+// connections from `v` to a light sample, for the jumps gateBoundaryJumps picks beyond the
+// straight-line reach v.len + |v - light|. trace_shadow_rays_d multiplies by ΔW(s_j) dL/dθ.
 void pathLengthBoundaryConnection(uint path, NeeVertex v, float uJump, vec3 uLight, vec4 uEllipsoid) {
   LightSample ls;
   if (!sampleLight(uLight, ls)) return;
-  uint first = gateFirstJumpAbove(v.len + distance(v.position, ls.position));
-  uint count = gateJumpCount();
-  if (first >= count) return;
-  uint choices = count - first;
-  if (kSpecAntitheticValue != 0u && count == 2u) {
-    for (uint j = first; j < count; ++j)
-      ellipsoidalConnection(path, v, gateJumpLocation(j), 1.0, 1.0, ls, uEllipsoid, j);
-    return;
-  }
-  uint j = first + min(uint(uJump * float(choices)), choices - 1u);
-  ellipsoidalConnection(path, v, gateJumpLocation(j), float(choices), 1.0, ls, uEllipsoid, j);
+  uint first;
+  float weight;
+  uint n = gateBoundaryJumps(v.len + distance(v.position, ls.position), uJump, first, weight);
+  for (uint j = first; j < first + n; ++j)
+    ellipsoidalConnection(path, v, gateJumpLocation(j), weight, 1.0, ls, uEllipsoid, j);
 }
 
 void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float share, LightSample ls, vec4 uEllipsoid,

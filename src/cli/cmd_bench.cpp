@@ -20,8 +20,9 @@ const CommandSpec& benchSpec() {
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
         "with standard and ellipsoidal NEE; paths/s, rays/s, time per pass, memory, and what the gate\n"
         "cutoff saves. `bench grad`: relMSE versus time of d M / d h on the confocal plane against its exact\n"
-        "value, for standard, ellipsoidal and antithetic estimators and the boundary term, and the time of a\n"
-        "gradient relative to a render. Writes bench.csv, plot.png and table.md into the output directory.";
+        "value (standard, ellipsoidal and antithetic estimators), of the path-length-boundary term with and\n"
+        "without antithetic pairs, of the edge term against its budget, and the time of a gradient relative\n"
+        "to a render. Writes bench.csv, plot.png and table.md into the output directory.";
     s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},

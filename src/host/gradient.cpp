@@ -51,6 +51,13 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
     plan.pathLength = true;
     plan.reasons.push_back("path-length-boundary pass: the gate jumps at " + std::to_string(gate.jumpLocations().size()) +
                            " lengths and parameters move path lengths across them");
+    if (scene.camera.type == CameraType::Perspective && scene.render.maxDepth >= 2) {
+      plan.pathLengthFromCamera = true;
+      plan.reasons.push_back("path-length-boundary connections from the pinhole, splatted: the pixel fixes the first hit, so paths camera -> surface -> light have no other vertex to place on a jump");
+    }
+    bool emitters = std::any_of(scene.shapes.begin(), scene.shapes.end(), [](const Shape& sh) { return sh.emission > 0; });
+    if (emitters)
+      plan.reasons.push_back("path-length boundary: emitters the camera sees directly (one-segment paths) get no term; their derivative misses it where such a path's length crosses a jump");
   }
   // Antithetic pairs (THEORY.md §5): mirrored lengths s, 2 mu - s in the interior pass of a
   // gaussian gate; both jumps of a box or truncated gaussian, sharing their random numbers, in the
@@ -140,17 +147,28 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
     addStats(result.stats, result.primal.stats);
   }
   // A boundary term: its own render with its own budget (0: the scene's spp).
-  auto boundaryTerm = [&](uint32_t spp, bool RenderOptions::*which, TermImages& out) {
+  auto boundaryTerm = [&](uint32_t spp, const RenderOptions& term) {
     Scene termScene = scene;
     if (spp > 0) termScene.render.spp = spp;
-    RenderOptions term = base;
-    term.*which = true;
-    term.antithetic = result.plan.antithetic && which == &RenderOptions::pathLengthBoundary;
-    out = renderTerm(renderer, termScene, bindings, term, result.stats, nullptr);
+    TermImages out = renderTerm(renderer, termScene, bindings, term, result.stats, nullptr);
     accumulateTerm(result.total, out);
+    return out;
   };
-  if (result.plan.edges) boundaryTerm(options.sppEdge, &RenderOptions::edges, result.edges);
-  if (result.plan.pathLength) boundaryTerm(options.sppBoundary, &RenderOptions::pathLengthBoundary, result.pathLength);
+  if (result.plan.edges) {
+    RenderOptions term = base;
+    term.edges = true;
+    result.edges = boundaryTerm(options.sppEdge, term);
+  }
+  if (result.plan.pathLength) {
+    RenderOptions term = base;
+    term.pathLengthBoundary = true;
+    term.antithetic = result.plan.antithetic;
+    result.pathLength = boundaryTerm(options.sppBoundary, term);
+    if (result.plan.pathLengthFromCamera) {
+      term.pathLengthFromCamera = true;
+      accumulateTerm(result.pathLength, boundaryTerm(options.sppBoundary, term));
+    }
+  }
   if (result.total.derivatives.empty()) throw Error("--terms: no derivative term selected");
   return result;
 }

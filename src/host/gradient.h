@@ -25,12 +25,14 @@ struct GradientOptions {
 struct GradientPlan {
   bool interior = false;
   bool pathLength = false;
+  bool pathLengthFromCamera = false;  // the path-length term's connections from a pinhole (splatted)
   bool edges = false;
   bool antithetic = false;
   std::vector<std::string> reasons;
 };
 
-// Near-delta: a gaussian gate this narrow relative to its centre gets antithetic pairs.
+// Near-delta: a gate this narrow relative to its centre gets antithetic pairs (gaussian: sigma/mu;
+// box and truncated gaussian: half their support's width over its centre).
 inline constexpr double kNearDeltaSigmaOverMu = 1e-2;
 
 GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& parameters, const GradientOptions& options);

@@ -80,12 +80,18 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   const uint64_t pixels = uint64_t(width) * height;
   // The edge term counts edge samples (each owns two path slots); the others count paths.
   const uint64_t totalPaths = pixels * scene.render.spp;
-  const bool edges = options.edges;
-  const uint32_t slotsPerSample = edges ? 2 : 1;
+  const bool edges = options.edges, fromCamera = options.pathLengthFromCamera;
+  // Splatted samples (edge term, path-length boundary from the camera) own two path slots each and
+  // land in the pixels their camera connections reach.
+  const bool splat = edges || fromCamera;
+  const uint32_t slotsPerSample = splat ? 2 : 1;
   if (edges && (lanes == 0 || options.pathLengthBoundary))
     throw Error("internal: the edge term needs derivative lanes and excludes the path-length-boundary term");
-  if (edges && totalPaths >= (uint64_t(1) << 32))
-    throw Error("--spp-edge: " + std::to_string(totalPaths) + " edge samples are too many for one render");
+  if (fromCamera && !(options.pathLengthBoundary && scene.camera.type == CameraType::Perspective))
+    throw Error("internal: path-length-boundary connections from the camera need that term and a pinhole");
+  if (splat && totalPaths >= (uint64_t(1) << 32))
+    throw Error(std::string(edges ? "--spp-edge: " : "--spp-boundary: ") + std::to_string(totalPaths) +
+                " splatted samples are too many for one render");
   if (pixels * scene.render.spp > (uint64_t(1) << 32) * 8)
     throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
 
@@ -127,8 +133,8 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   frame.pathInfo = glm::uvec4(scene.render.rouletteDepth, plan.firstEllipsoidVertex, channels, batchSize);
   frame.chunkShift.z = film.shift;
   frame.edgeInfo = glm::uvec4(uint32_t(edgeList.size()), edges ? uint32_t(totalPaths) : 0u, 0, 0);
-  // resolve divides by the samples every pixel's sums saw: an edge sample counts in every pixel.
-  if (edges) frame.image.z = uint32_t(totalPaths);
+  // resolve divides by the samples every pixel's sums saw: a splatted sample counts in every pixel.
+  if (splat) frame.image.z = uint32_t(totalPaths);
   Buffer frameBuffer(context, sizeof frame, MemoryKind::Device, "frame");
   frameBuffer.upload(context, &frame, sizeof frame);
 
@@ -165,8 +171,10 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   // term's light sides are plain paths (their lanes are factors sample_edges set).
   const std::string variant = lanes > 0 && !edges ? "_d" : "";
   const std::string shadeName = "shade" + variant, shadowName = "trace_shadow_rays" + variant;
-  const std::string generateName = edges ? "sample_edges" : "generate_camera_rays" + variant;
-  const std::string accumulateName = edges ? "accumulate_edges" : "accumulate";
+  const std::string generateName = edges        ? "sample_edges"
+                                   : fromCamera ? "connect_camera_boundary"
+                                                : "generate_camera_rays" + variant;
+  const std::string accumulateName = splat ? "accumulate_splats" : "accumulate";
   VkPipeline generate = pipelines.get(generateName, spec);
   VkPipeline intersect = pipelines.get("intersect_closest", spec);
   VkPipeline shade = pipelines.get(shadeName, spec);
@@ -223,9 +231,17 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     vkCmdFillBuffer(cmd, wave.counters.handle(), 0, gpu::kCounterExtensionRays * sizeof(uint32_t), 0);
     vkCmdFillBuffer(cmd, wave.pathAccum.handle(), 0, VK_WHOLE_SIZE, 0);
     computeBarrier(cmd);
-    pushArgs(cmd, layout, edges ? uint32_t(done) : firstLinear, firstSample, 0, active);
+    pushArgs(cmd, layout, splat ? uint32_t(done) : firstLinear, firstSample, 0, active);
     dispatch(generateName.c_str(), generate, groupsFor(active));
-    for (uint32_t depth = 0; depth < maxDepth; ++depth) {
+    auto traceShadowRays = [&] {
+      pushArgs(cmd, layout, gpu::kCounterShadow, gpu::kArgsShadow, gpu::kCounterShadowRays, 0);
+      dispatch("set_dispatch_args", setArgs, 1);
+      dispatchIndirect(shadowName.c_str(), shadow, gpu::kArgsShadow);
+      zeroCounter(gpu::kCounterShadow);
+    };
+    // connect_camera_boundary queues complete connections: no rays to extend.
+    if (fromCamera) traceShadowRays();
+    for (uint32_t depth = 0; depth < (fromCamera ? 0 : maxDepth); ++depth) {
       uint32_t parity = depth & 1u;
       pushArgs(cmd, layout, gpu::kCounterRays0 + parity, gpu::kArgsRays, gpu::kCounterExtensionRays, 0);
       dispatch("set_dispatch_args", setArgs, 1);
@@ -234,14 +250,11 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
       if (!(edges && depth == 0)) dispatchIndirect("intersect_closest", intersect, gpu::kArgsRays);
       zeroCounter(gpu::kCounterRays0 + (parity ^ 1u));
       dispatchIndirect(shadeName.c_str(), shade, gpu::kArgsRays);
-      pushArgs(cmd, layout, gpu::kCounterShadow, gpu::kArgsShadow, gpu::kCounterShadowRays, 0);
-      dispatch("set_dispatch_args", setArgs, 1);
-      dispatchIndirect(shadowName.c_str(), shadow, gpu::kArgsShadow);
-      zeroCounter(gpu::kCounterShadow);
+      traceShadowRays();
     }
-    if (edges) {
+    if (splat) {
       pushArgs(cmd, layout, 0, 0, 0, active);
-      dispatch("accumulate_edges", accumulate, groupsFor(uint64_t(active) * layers * lanes));
+      dispatch("accumulate_splats", accumulate, groupsFor(uint64_t(active) * layers * lanes));
     } else {
       uint64_t pathsPerPixel = (active + pixels - 1) / pixels;
       for (uint32_t round = 0; uint64_t(round) * gpu::kPathsPerRound < pathsPerPixel; ++round) {
