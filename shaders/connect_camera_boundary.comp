@@ -1,22 +1,27 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Pass connect_camera_boundary (path-length-boundary term, THEORY.md §3, of the paths camera ->
-// x1 -> light behind a pinhole): the per-pixel pass starts its ellipsoidal connections at the
-// first hit, which the pixel fixes, so these two-segment paths have no vertex it can place on a
-// jump. Here x1 is that vertex: an ellipsoidal connection with the pinhole and a light sample as
-// foci puts the path exactly on L = s_j, and the pixel follows from x1's direction (light-tracing
-// style, splatted by accumulate_splats).
+// Pass connect_camera_boundary: the path-length-boundary term (THEORY.md §3) of the paths whose
+// only free vertex the per-pixel pass cannot place on a jump. That pass starts its ellipsoidal
+// connections at the first hit behind a pinhole (the pixel fixes it) and at the sensor itself at a
+// point sensor, so it misses
+//   two segments behind a pinhole, camera -> x1 -> light: an ellipsoidal connection with the
+//     pinhole and a light sample as foci puts x1 exactly on L = s_j;
+//   one segment, camera -> y on an emitter seen directly (any camera): y on the sphere L = |y - c|
+//     = s_j, sampled as the ellipsoid with both foci at the camera;
+// and the pixel follows from the direction the camera sees the vertex in (light-tracing style,
+// splatted by accumulate_splats). Each sample picks one of the two (kDirectProbability when both
+// can occur).
 //
-// The interior pass differentiates these paths with x1 on its fixed camera ray, so dL/dθ is taken
-// in that parametrisation too (x1's velocity along the ray through it): the boundary term is
-//   ΔW(s_j) ∫ δ(L - s_j) (∂L/∂θ)|ray F du,
-// and changing variables from the image plane u to x1's area (F du = W_e G(c, x1) f G(x1, y) L_e
-// dA(x1)) lets the ellipsoid sampler's co-area weight handle δ(L - s_j).
+// The interior pass differentiates these paths with the first hit on its fixed camera ray behind a
+// pinhole (a material point at a point sensor), so dL/dθ is taken in that parametrisation too: the
+// boundary term is ΔW(s_j) ∫ δ(L - s_j) (∂L/∂θ)|ray F du, and changing variables from the image
+// plane u to the vertex's area (F du = W_e G(c, x) ... dA(x)) lets the ellipsoid sampler's co-area
+// weight handle δ(L - s_j).
 //
 // One sample per invocation, two path slots (2i, 2i + 1: one per jump of an antithetic pair, whose
-// connections may land in different pixels). Each connection queues a two-segment shadow ray with
-// its value W_e G f G L_e weight / p and dL/dθ per lane; trace_shadow_rays_d adds ΔW(s_j) value
-// (dL/dθ - rate of the gate centre) to the slot's lanes when both segments are unoccluded.
+// connections may land in different pixels). Each connection queues a shadow ray with its value
+// and dL/dθ per lane; trace_shadow_rays_d adds ΔW(s_j) value (dL/dθ - rate of the gate centre) to
+// the slot's lanes when every segment is unoccluded.
 // Reads: scene, BVH, camera, lights, velocities. Writes: paths[2i, 2i + 1] (pixel), shadow queue,
 // shadowDerivs. Dispatch: ceil(samples of the batch / kWorkgroupSize); push.args: x first sample of
 // the batch, w samples in the batch.
@@ -29,6 +34,15 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
+
+// Share of the samples that look for directly seen emitters when two-segment paths exist too.
+const float kDirectProbability = 0.25;
+
+// The first vertex's position for one lane: on its camera ray (pinhole) or a material point.
+Dual3 firstVertexDual(EllipsoidSample es, vec3 dir, uint lane) {
+  if (kSpecCameraTypeValue == kCameraPerspective) return rayVertexDual(es.triangle, es.barycentrics, dir, lane).position;
+  return surfaceVertexDual(es.triangle, es.barycentrics, lane).position;
+}
 
 // The connection c -> x1 -> y of total length s into slot `slot`.
 void connect(uint slot, vec3 c, LightSample ls, float s, uint jump, float weight, vec4 uEllipsoid) {
@@ -59,11 +73,41 @@ void connect(uint slot, vec3 c, LightSample ls, float s, uint jump, float weight
   if (queued == 0xffffffffu) return;
   paths[slot].ids.x = pixel;
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
-    VertexDual x = rayVertexDual(es.triangle, es.barycentrics, w1, lane);
+    Dual3 x = firstVertexDual(es, w1, lane);
     LightDual y = lightDual(ls, lane);
-    float dLen = dualSegment(dual3(c), x.position).len.d + dualSegment(x.position, y.position).len.d;
+    float dLen = dualSegment(dual3(c), x).len.d + dualSegment(x, y.position).len.d;
     storeShadowDerivative(queued, lane, 0.0, dLen);
   }
+}
+
+// The path c -> y of length s, y on an emitter, into slot `slot`. The ellipsoid with both foci at c
+// and total length 2s is the sphere |y - c| = s; its co-area weight is for δ(2 (|y - c| - s)) =
+// δ(|y - c| - s) / 2, hence the factor 2.
+void connectDirect(uint slot, vec3 c, float s, uint jump, float weight, vec4 uEllipsoid) {
+  atomicAdd(counters[kCounterEllipsoidQueries], 1u);
+  EllipsoidSample es;
+  if (!sampleEllipsoidConnection(c, c, 2.0 * s, uEllipsoid, es)) {
+    atomicAdd(counters[kCounterEllipsoidEmpty], 1u);
+    return;
+  }
+  SurfacePoint y = surfacePoint(es.triangle, es.barycentrics);
+  float emission = shapes[y.shape].emission;
+  if (!(emission > 0.0)) return;
+  vec3 d = y.position - c;
+  float r = length(d);
+  if (!(r > 0.0)) return;
+  vec3 w = d / r;
+  float cosY = dot(y.normal, -w);
+  if (cosY <= 0.0) return;  // area lights emit from their front face
+  uint pixel;
+  float importance = cameraImportance(w, pixel);
+  if (importance == 0.0) return;
+  float value = importance * emission * cosY / (r * r) * 2.0 * es.weight * weight;
+  uint queued = queueShadowRay(slot, c, y.position, vec3(0.0), 1u, value, s, jump);
+  if (queued == 0xffffffffu) return;
+  paths[slot].ids.x = pixel;
+  for (uint lane = 0u; lane < kSpecLanesValue; ++lane)
+    storeShadowDerivative(queued, lane, 0.0, dualSegment(dual3(c), firstVertexDual(es, w, lane)).len.d);
 }
 
 void main() {
@@ -75,13 +119,23 @@ void main() {
   Rng rg = rngForBounce(kNoPixel, sampleIndex, 0u, kRngSlotGate, seed);
   Rng rl = rngForBounce(kNoPixel, sampleIndex, 0u, kRngSlotEllipsoidLight, seed);
   Rng re = rngForBounce(kNoPixel, sampleIndex, 0u, kRngSlotEllipsoid, seed);
-  LightSample ls;
-  if (!sampleLight(rngNext4(rl).xyz, ls)) return;
   vec3 c = frame.cameraPosition.xyz;
+  vec4 uGate = rngNext4(rg), uEllipsoid = rngNext4(re);
+  bool twoSegments = kSpecCameraTypeValue == kCameraPerspective && frame.gateInfo.w >= 2u;
+  bool direct = sceneHasLightType(kLightAreaTriangle);
+  float pDirect = direct ? (twoSegments ? kDirectProbability : 1.0) : 0.0;
   uint first;
   float weight;
-  uint n = gateBoundaryJumps(distance(c, ls.position), rngNext4(rg).x, first, weight);
-  vec4 uEllipsoid = rngNext4(re);
+  if (uGate.y < pDirect) {
+    uint n = gateBoundaryJumps(0.0, uGate.x, first, weight);
+    for (uint k = 0u; k < n; ++k)
+      connectDirect(2u * i + k, c, gateJumpLocation(first + k), first + k, weight / pDirect, uEllipsoid);
+    return;
+  }
+  if (!twoSegments) return;  // at a point sensor the per-pixel pass places two-segment paths
+  LightSample ls;
+  if (!sampleLight(rngNext4(rl).xyz, ls)) return;
+  uint n = gateBoundaryJumps(distance(c, ls.position), uGate.x, first, weight);
   for (uint k = 0u; k < n; ++k)
-    connect(2u * i + k, c, ls, gateJumpLocation(first + k), first + k, weight, uEllipsoid);
+    connect(2u * i + k, c, ls, gateJumpLocation(first + k), first + k, weight / (1.0 - pDirect), uEllipsoid);
 }

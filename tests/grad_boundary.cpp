@@ -34,6 +34,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <numbers>
 
 #include "support/boundary_test.h"
@@ -122,34 +123,33 @@ TEST(GradBoundary, SeparatedLightPosition) {
 }
 
 // A perspective camera 2 m above a plane that fills its view (half-extent 0.73 m at 40 degrees;
-// the plane's is 3 m), lit by a point light at (0.5, 0.3, 1.5): direct path lengths span
-// [3.55, 4.44] over the image and the box gate [3.7, 4.0] cuts across it. The plane translates
-// along its normal. No silhouette and no shadow moves. The paths are camera -> plane -> light
-// only (maxDepth 2), so the whole path-length-boundary term comes from connect_camera_boundary
-// (connections from the pinhole, splatted); without it the image sum was 8.84 against finite
-// differences -62.7. The FD step is 0.001: at 0.01 the jump's curve moves a third of a pixel
-// either way and finite differences smear it over neighbouring pixels (60 of 256 rejected, the
-// image sum still agreeing).
-TEST(GradBoundary, PerspectiveBoxFiniteDifference) {
-  auto makeScene = [](uint32_t spp, uint32_t seed) {
-    Scene scene = confocalPlaneScene(1.0, 3.0, 3.0, kRho, kIntensity);
-    scene.camera.type = CameraType::Perspective;
-    scene.camera.position = {0.0f, 0.0f, 2.0f};
-    scene.camera.lookAt = {0.0f, 0.0f, 0.0f};
-    scene.camera.up = {0.0f, 1.0f, 0.0f};
-    scene.camera.fovY = 40.0f;
-    scene.camera.width = scene.camera.height = kPerspectiveResolution;
-    scene.pointLights[0].position = {0.5f, 0.3f, 1.5f};
-    scene.gate.type = GateType::Box;
-    scene.gate.a = 3.7;
-    scene.gate.b = 4.0;
-    scene.render.spp = spp;
-    scene.render.seed = seed;
-    scene.render.maxDepth = 2;
-    addTranslation(scene, "t", "plane", {0.0f, 0.0f, 1.0f});
-    return scene;
-  };
+// the plane's is 3 m), 16 x 16 pixels; the plane translates along its normal. No silhouette and no
+// shadow moves. The paths have one or two segments, whose vertex the pixel fixes: their whole
+// path-length-boundary term comes from connect_camera_boundary (connections from the camera,
+// splatted). Per pixel and summed over the image against finite differences of step 0.001: at 0.01
+// the jump's curve moves a third of a pixel either way and finite differences smear it over
+// neighbouring pixels (60 of 256 rejected, the image sum still agreeing).
+Scene perspectivePlaneScene(uint32_t spp, uint32_t seed, double a, double b, uint32_t maxDepth) {
+  Scene scene = confocalPlaneScene(1.0, 3.0, 3.0, kRho, kIntensity);
+  scene.camera.type = CameraType::Perspective;
+  scene.camera.position = {0.0f, 0.0f, 2.0f};
+  scene.camera.lookAt = {0.0f, 0.0f, 0.0f};
+  scene.camera.up = {0.0f, 1.0f, 0.0f};
+  scene.camera.fovY = 40.0f;
+  scene.camera.width = scene.camera.height = kPerspectiveResolution;
+  scene.gate.type = GateType::Box;
+  scene.gate.a = a;
+  scene.gate.b = b;
+  scene.render.spp = spp;
+  scene.render.seed = seed;
+  scene.render.maxDepth = maxDepth;
+  addTranslation(scene, "t", "plane", {0.0f, 0.0f, 1.0f});
+  return scene;
+}
+
+void expectPerspectiveMatchesFd(const std::function<Scene(uint32_t spp, uint32_t seed)>& makeScene) {
   GradientResult g = gradient(makeScene(kPerspectiveSpp, 57), {"t"}, NeeMode::Auto);
+  ASSERT_TRUE(g.plan.pathLengthFromCamera);
   SeedDifference ft = seedFiniteDifference(makeScene(kPerspectiveSpp / 4, 58), "t", 0.001, kFdSeeds, {});
   EXPECT_EQ(ft.nonFinite, 0u);
   LayerEstimate total = term(g.total, 0);
@@ -157,9 +157,31 @@ TEST(GradBoundary, PerspectiveBoxFiniteDifference) {
   check.expect("d/dt total vs FD, per pixel", total, ft.layers[0]);
   check.expect("d/dt total vs FD, image sum", sumPixels(total), sumPixels(ft.layers[0]));
   std::printf("  image sums: total %.5g, interior %.5g, boundary %.5g, FD %.5g\n", sumPixels(total).mean[0],
-              sumPixels(term(g.interior, 0)).mean[0],
-              g.pathLength.derivatives.empty() ? 0.0 : sumPixels(term(g.pathLength, 0)).mean[0],
+              sumPixels(term(g.interior, 0)).mean[0], sumPixels(term(g.pathLength, 0)).mean[0],
               sumPixels(ft.layers[0]).mean[0]);
+}
+
+// Two segments, camera -> plane -> a point light at (0.5, 0.3, 1.5): lengths span [3.55, 4.44] over
+// the image and the box gate [3.7, 4.0] cuts across it. Without the connections from the pinhole
+// the image sum was 8.84 against finite differences -62.7.
+TEST(GradBoundary, PerspectiveBoxFiniteDifference) {
+  expectPerspectiveMatchesFd([](uint32_t spp, uint32_t seed) {
+    Scene scene = perspectivePlaneScene(spp, seed, 3.7, 4.0, 2);
+    scene.pointLights[0].position = {0.5f, 0.3f, 1.5f};
+    return scene;
+  });
+}
+
+// One segment: the plane is an emitter (radiance 1, black) seen directly, no other light; camera
+// distances span [2, 2.25] and the box gate [2.05, 2.2] cuts a ring.
+TEST(GradBoundary, PerspectiveEmitterSeenDirectly) {
+  expectPerspectiveMatchesFd([](uint32_t spp, uint32_t seed) {
+    Scene scene = perspectivePlaneScene(spp, seed, 2.05, 2.2, 1);
+    scene.pointLights.clear();
+    scene.shapes[0].emission = 1.0f;
+    scene.materials[0].albedo = 0.0f;
+    return scene;
+  });
 }
 
 // Transient stack: bins of 0.25 m over [0.1, 3.6] cover every path of the confocal square (half-size

@@ -51,17 +51,16 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
     plan.pathLength = true;
     plan.reasons.push_back("path-length-boundary pass: the gate jumps at " + std::to_string(gate.jumpLocations().size()) +
                            " lengths and parameters move path lengths across them");
+    bool emitters = std::any_of(scene.shapes.begin(), scene.shapes.end(), [](const Shape& sh) { return sh.emission > 0; });
     if (scene.camera.type == CameraType::Perspective && scene.render.maxDepth >= 2) {
       plan.pathLengthFromCamera = true;
       plan.reasons.push_back("path-length-boundary connections from the pinhole, splatted: the pixel fixes the first hit, so paths camera -> surface -> light have no other vertex to place on a jump");
     }
-    bool emitters = std::any_of(scene.shapes.begin(), scene.shapes.end(), [](const Shape& sh) { return sh.emission > 0; });
-    if (emitters)
-      plan.reasons.push_back("path-length boundary: emitters the camera sees directly (one-segment paths) get no term; their derivative misses it where such a path's length crosses a jump");
+    if (emitters && scene.render.maxDepth >= 1) {
+      plan.pathLengthFromCamera = true;
+      plan.reasons.push_back("path-length-boundary connections from the camera to emitters it sees directly, splatted (one-segment paths)");
+    }
   }
-  // Antithetic pairs (THEORY.md §5): mirrored lengths s, 2 mu - s in the interior pass of a
-  // gaussian gate; both jumps of a box or truncated gaussian, sharing their random numbers, in the
-  // path-length-boundary pass. Near-delta: the gate this narrow relative to its centre.
   bool twoJumps = gate.type == GateType::Box || gate.type == GateType::TruncatedGaussian;
   bool nearDelta = (gate.type == GateType::Gaussian && gate.sigma <= kNearDeltaSigmaOverMu * gate.mu) ||
                    (twoJumps && gate.b - gate.a <= kNearDeltaSigmaOverMu * (gate.a + gate.b));

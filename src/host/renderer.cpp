@@ -87,8 +87,8 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   const uint32_t slotsPerSample = splat ? 2 : 1;
   if (edges && (lanes == 0 || options.pathLengthBoundary))
     throw Error("internal: the edge term needs derivative lanes and excludes the path-length-boundary term");
-  if (fromCamera && !(options.pathLengthBoundary && scene.camera.type == CameraType::Perspective))
-    throw Error("internal: path-length-boundary connections from the camera need that term and a pinhole");
+  if (fromCamera && !options.pathLengthBoundary)
+    throw Error("internal: path-length-boundary connections from the camera belong to that term");
   if (splat && totalPaths >= (uint64_t(1) << 32))
     throw Error(std::string(edges ? "--spp-edge: " : "--spp-boundary: ") + std::to_string(totalPaths) +
                 " splatted samples are too many for one render");

@@ -26,9 +26,9 @@ struct RenderOptions {
   // Which derivative term the lanes compute: the interior term, or the path-length-boundary
   // term of the gate's jumps (then the image channel stays zero).
   bool pathLengthBoundary = false;
-  // With pathLengthBoundary, behind a pinhole: that term's share of the paths camera -> x1 -> light,
-  // which the per-pixel pass cannot place on a jump (connect_camera_boundary: ellipsoidal
-  // connections from the pinhole, splatted; scene.render.spp samples per pixel on average).
+  // With pathLengthBoundary: that term's share of the paths the per-pixel pass cannot place on a
+  // jump, camera -> x1 -> light behind a pinhole and camera -> emitter (connect_camera_boundary:
+  // connections from the camera, splatted; scene.render.spp samples per pixel on average).
   bool pathLengthFromCamera = false;
   // Or the visibility-boundary (edge) term: scene.render.spp edge samples per pixel on average
   // (sample_edges), splatted into the pixels their camera connections reach.
