@@ -131,12 +131,7 @@ TEST(GradBoundary, SeparatedLightPosition) {
 // neighbouring pixels (60 of 256 rejected, the image sum still agreeing).
 Scene perspectivePlaneScene(uint32_t spp, uint32_t seed, double a, double b, uint32_t maxDepth) {
   Scene scene = confocalPlaneScene(1.0, 3.0, 3.0, kRho, kIntensity);
-  scene.camera.type = CameraType::Perspective;
-  scene.camera.position = {0.0f, 0.0f, 2.0f};
-  scene.camera.lookAt = {0.0f, 0.0f, 0.0f};
-  scene.camera.up = {0.0f, 1.0f, 0.0f};
-  scene.camera.fovY = 40.0f;
-  scene.camera.width = scene.camera.height = kPerspectiveResolution;
+  scene.camera = pinholeCamera({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 40.0f, kPerspectiveResolution);
   scene.gate.type = GateType::Box;
   scene.gate.a = a;
   scene.gate.b = b;

@@ -385,12 +385,7 @@ Scene litPlaneScene(MaterialType type, uint32_t spp, uint32_t seed) {
   addQuad(lamp, {0.9f, -0.25f, 1.5f}, {0.9f, 0.25f, 1.5f}, {1.4f, 0.25f, 1.5f}, {1.4f, -0.25f, 1.5f});
   scene.shapes = {ground, lamp};
   scene.pointLights.push_back({"point", {-0.9f, 0.3f, 1.2f}, 2.0f});
-  scene.camera.type = CameraType::Perspective;
-  scene.camera.position = {0.0f, 0.0f, 2.0f};
-  scene.camera.lookAt = {0.0f, 0.0f, 0.0f};
-  scene.camera.up = {0.0f, 1.0f, 0.0f};
-  scene.camera.fovY = 30.0f;
-  scene.camera.width = scene.camera.height = 12;
+  scene.camera = pinholeCamera({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 30.0f, 12);
   // Paths reaching the plane's edge (4 m out) are longer than the support's end, 7.25 m.
   scene.gate.type = GateType::Gaussian;
   scene.gate.mu = 4.0;

@@ -71,6 +71,17 @@ Scene confocalPlaneScene(double h, double halfX, double halfY, double rho, doubl
   return scene;
 }
 
+Camera pinholeCamera(glm::vec3 position, glm::vec3 lookAt, float fovY, uint32_t resolution) {
+  Camera camera;
+  camera.type = CameraType::Perspective;
+  camera.position = position;
+  camera.lookAt = lookAt;
+  camera.up = {0.0f, 1.0f, 0.0f};
+  camera.fovY = fovY;
+  camera.width = camera.height = resolution;
+  return camera;
+}
+
 Scene separatedPlaneScene(double d, double h0, double halfX, double halfY, double rho, double intensity,
                           glm::vec3 sensorNormal) {
   Scene scene;
@@ -100,11 +111,7 @@ Scene furnaceScene(double s, double rho, double emission, bool pointSensor, uint
     scene.camera.type = CameraType::PointSensor;
     scene.camera.normal = dir;
   } else {
-    scene.camera.type = CameraType::Perspective;
-    scene.camera.lookAt = eye + dir;
-    scene.camera.up = {0.0f, 1.0f, 0.0f};
-    scene.camera.fovY = 60.0f;
-    scene.camera.width = scene.camera.height = resolution;
+    scene.camera = pinholeCamera(eye, eye + dir, 60.0f, resolution);
   }
   return scene;
 }
@@ -148,12 +155,7 @@ Scene cornellScene(uint32_t resolution, double emission, double pointIntensity, 
     scene.camera.position = {0.0f, 0.0f, 0.9f};
     scene.camera.normal = {0.0f, 0.0f, -1.0f};
   } else {
-    scene.camera.type = CameraType::Perspective;
-    scene.camera.position = {0.0f, 0.0f, 3.2f};
-    scene.camera.lookAt = {0.0f, 0.0f, 0.0f};
-    scene.camera.up = {0.0f, 1.0f, 0.0f};
-    scene.camera.fovY = 40.0f;
-    scene.camera.width = scene.camera.height = resolution;
+    scene.camera = pinholeCamera({0.0f, 0.0f, 3.2f}, {0.0f, 0.0f, 0.0f}, 40.0f, resolution);
   }
   return scene;
 }

@@ -14,6 +14,10 @@ namespace vktg::test {
 // front face (the emitting side) is normalize(cross(p1 - p0, p2 - p0)).
 void addQuad(Shape& shape, glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p3);
 
+// A perspective camera at `position` looking at `lookAt` (up +y), vertical field of view fovY
+// degrees, resolution x resolution pixels.
+Camera pinholeCamera(glm::vec3 position, glm::vec3 lookAt, float fovY, uint32_t resolution);
+
 // Confocal plane: the rectangle |x| <= halfX, |y| <= halfY of the plane z = 0 (front face +z,
 // albedo rho), a point sensor at (0, 0, h) looking down (-z) and a point light of intensity I at the
 // same point. Steady gate; maxDepth 4 (one bounce is all a single plane allows).
