@@ -77,15 +77,15 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
   }
   if (!options.edges) {
     plan.reasons.push_back("edge (visibility-boundary) term: not requested");
-  } else if (!movesGeometry) {
-    plan.reasons.push_back(movesPointLight
-                               ? "no edge pass: only a point light moves, and the edge pass does not sample the shadow boundaries of point lights (their derivative misses that part)"
-                               : "no edge pass: no selected parameter moves geometry that can occlude");
+  } else if (!movesGeometry && !movesPointLight) {
+    plan.reasons.push_back("no edge pass: no selected parameter moves geometry that can occlude or a point light");
   } else {
     plan.edges = true;
-    plan.reasons.push_back("edge pass: parameters move geometry; boundary segments from the camera (primary silhouettes) and from the first hit (shadows and occlusion of the first bounce, any light-side depth)");
-    if (movesPointLight)
-      plan.reasons.push_back("edge pass: shadow boundaries of moving point lights are not sampled (their derivative misses that part)");
+    plan.reasons.push_back("edge pass: parameters move geometry or a point light; boundary segments from the camera (primary silhouettes) and behind surfaces at any depth (shadows, occlusion), the light side at any depth");
+    bool glass = std::any_of(scene.materials.begin(), scene.materials.end(),
+                             [](const Material& m) { return m.type == MaterialType::Dielectric; });
+    if (glass)
+      plan.reasons.push_back("edge pass: its camera side does not continue through dielectrics, so boundary segments the camera sees only through refraction are not sampled (their derivative misses that part)");
   }
   return plan;
 }
