@@ -38,12 +38,6 @@ layout(push_constant) uniform Push { PassPush push; };
 // Share of the samples that look for directly seen emitters when two-segment paths exist too.
 const float kDirectProbability = 0.25;
 
-// The first vertex's position for one lane: on its camera ray (pinhole) or a material point.
-Dual3 firstVertexDual(EllipsoidSample es, vec3 dir, uint lane) {
-  if (kSpecCameraTypeValue == kCameraPerspective) return rayVertexDual(es.triangle, es.barycentrics, dir, lane).position;
-  return surfaceVertexDual(es.triangle, es.barycentrics, lane).position;
-}
-
 // The connection c -> x1 -> y of total length s into slot `slot`.
 void connect(uint slot, vec3 c, LightSample ls, float s, uint jump, float weight, vec4 uEllipsoid) {
   atomicAdd(counters[kCounterEllipsoidQueries], 1u);
@@ -73,7 +67,7 @@ void connect(uint slot, vec3 c, LightSample ls, float s, uint jump, float weight
   if (queued == 0xffffffffu) return;
   paths[slot].ids.x = pixel;
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
-    Dual3 x = firstVertexDual(es, w1, lane);
+    Dual3 x = firstHitPositionDual(es.triangle, es.barycentrics, w1, lane);
     LightDual y = lightDual(ls, lane);
     float dLen = dualSegment(dual3(c), x).len.d + dualSegment(x, y.position).len.d;
     storeShadowDerivative(queued, lane, 0.0, dLen);
@@ -107,7 +101,7 @@ void connectDirect(uint slot, vec3 c, float s, uint jump, float weight, vec4 uEl
   if (queued == 0xffffffffu) return;
   paths[slot].ids.x = pixel;
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane)
-    storeShadowDerivative(queued, lane, 0.0, dualSegment(dual3(c), firstVertexDual(es, w, lane)).len.d);
+    storeShadowDerivative(queued, lane, 0.0, dualSegment(dual3(c), firstHitPositionDual(es.triangle, es.barycentrics, w, lane)).len.d);
 }
 
 void main() {

@@ -49,18 +49,10 @@ vec3 surfaceVelocity(uint triangle, vec2 uv, uint lane) {
   return dBarycentric(p0, p1, p2, uv).d;
 }
 
-// Velocity of a first hit behind a pinhole, which slides along its fixed camera ray `dir`.
-vec3 rayVelocity(uint triangle, vec2 uv, vec3 dir, uint lane) {
-  Dual3 p0, p1, p2;
-  triangleDual(triangle, lane, p0, p1, p2);
-  return rayHitDual(dir, p0, p1, p2, uv).d;
-}
-
 // Velocity of the boundary segment's end x_a at depth `depth`: on its camera ray behind a pinhole
 // when it is the first hit (the interior pass's parametrisation), else a material point.
 vec3 firstHitVelocity(uint triangle, vec2 uv, uint depth, vec3 cameraRay, uint lane) {
-  bool rayForm = depth == 1u && kSpecCameraTypeValue == kCameraPerspective;
-  return rayForm ? rayVelocity(triangle, uv, cameraRay, lane) : surfaceVelocity(triangle, uv, lane);
+  return depth == 1u ? firstHitPositionDual(triangle, uv, cameraRay, lane).d : surfaceVelocity(triangle, uv, lane);
 }
 
 vec3 edgePointVelocity(GpuEdge e, float t, uint lane) {

@@ -199,15 +199,7 @@ TEST(GradAntithetic, BoundaryPairsBoxWidth1em3) { checkBoxPairs(1e-3, 401); }
 // Sensor and light 1 apart at height 1: the jumps' ellipses carry a varying integrand (on the
 // confocal plane each jump's circle carries a constant one).
 TEST(GradAntithetic, BoundaryPairsSeparatedLight) {
-  Scene scene = separatedPlaneScene(1.0, 1.0, 2.0, 2.0, kRho, kIntensity);
-  scene.gate.type = GateType::Box;
-  scene.gate.a = kMu * (1 - 1e-2);
-  scene.gate.b = kMu * (1 + 1e-2);
-  scene.render.spp = kSpp;
-  scene.render.seed = 501;
-  scene.render.maxDepth = 2;
-  addLightMove(scene, "lx", "light", {1.0f, 0.0f, 0.0f});
-  addLightMove(scene, "lz", "light", {0.0f, 0.0f, 1.0f});
+  Scene scene = boundary::separatedBoxScene(kMu * (1 - 1e-2), kMu * (1 + 1e-2), kSpp, 501);
   for (double ratio : compareBoundary(scene, {"lx", "lz"}, {}))
     EXPECT_LT(ratio, kMaxVarianceRatio) << "antithetic pairs did not lower the boundary term's variance";
 }

@@ -95,18 +95,7 @@ TEST(GradBoundary, ConfocalBoxFiniteDifference) {
 // [2.5, 3.0]: the light moves along x (away from the sensor) and along z. The gate's ellipses
 // (semi-axes at most 1.06 x 1.0) stay inside the plane's 2 x 2 half-extent.
 TEST(GradBoundary, SeparatedLightPosition) {
-  auto makeScene = [](uint32_t spp, uint32_t seed) {
-    Scene scene = separatedPlaneScene(1.0, 1.0, 2.0, 2.0, kRho, kIntensity);
-    scene.gate.type = GateType::Box;
-    scene.gate.a = 2.5;
-    scene.gate.b = 3.0;
-    scene.render.spp = spp;
-    scene.render.seed = seed;
-    scene.render.maxDepth = 2;
-    addLightMove(scene, "lx", "light", {1.0f, 0.0f, 0.0f});
-    addLightMove(scene, "lz", "light", {0.0f, 0.0f, 1.0f});
-    return scene;
-  };
+  auto makeScene = [](uint32_t spp, uint32_t seed) { return separatedBoxScene(2.5, 3.0, spp, seed); };
   GradientResult g = gradient(makeScene(100000, 47), {"lx", "lz"}, NeeMode::Ellipsoidal);
   ASSERT_TRUE(g.plan.pathLength);
   RenderOptions fdOptions;

@@ -56,6 +56,16 @@ size_t rejectedWithoutEdges(const GradientResult& g, const LayerEstimate& fd, do
   return c.rejected;
 }
 
+// The total derivative against finite differences of step `eps` (every pixel), and the edge
+// term's weight: at least `minRejected` pixels must fail without it.
+void expectMatchesFd(const Scene& scene, const GradientResult& g, const std::string& parameter, double eps,
+                     size_t minRejected) {
+  LayerEstimate fd = finiteDifference(scene, parameter, eps);
+  double level = sidakLevel(kAlpha, kResolution * kResolution);
+  Checker{level}.expect(("d/d" + parameter + " total vs fd").c_str(), term(g.total, 0), fd);
+  EXPECT_GT(rejectedWithoutEdges(g, fd, level), minRejected);
+}
+
 // The derivative of the shadow jumps where the penumbra meets the umbra or the lit floor (a straight
 // edge uncovers a rectangular light linearly), and a silhouette's pixel coverage has kinks where it
 // crosses pixel corners: a finite difference averages the derivative over ±eps there. This step
@@ -94,10 +104,7 @@ TEST(GradEdge, MovingOccluderShadow) {
   Scene scene = occluderScene(256);
   GradientResult g = edgeGradient(scene, "occluder_x", 2048);
   EXPECT_FALSE(g.plan.pathLength) << "a gaussian gate has no jumps";
-  LayerEstimate fd = finiteDifference(scene, "occluder_x", kOccluderStep);
-  double level = sidakLevel(kAlpha, kResolution * kResolution);
-  Checker{level}.expect("d/dx total (interior + edge) vs fd", term(g.total, 0), fd);
-  EXPECT_GT(rejectedWithoutEdges(g, fd, level), 10u);
+  expectMatchesFd(scene, g, "occluder_x", kOccluderStep, 10);
 }
 
 TEST(GradEdge, AllThreeTermsUnderABoxGate) {
@@ -108,10 +115,7 @@ TEST(GradEdge, AllThreeTermsUnderABoxGate) {
   scene.gate.b = 6.8;
   GradientResult g = edgeGradient(scene, "occluder_x", 2048);
   EXPECT_TRUE(g.plan.pathLength && g.plan.interior);
-  LayerEstimate fd = finiteDifference(scene, "occluder_x", kOccluderStep);
-  double level = sidakLevel(kAlpha, kResolution * kResolution);
-  Checker{level}.expect("d/dx interior + edge + path-length boundary vs fd", term(g.total, 0), fd);
-  EXPECT_GT(rejectedWithoutEdges(g, fd, level), 10u);
+  expectMatchesFd(scene, g, "occluder_x", kOccluderStep, 10);
 }
 
 TEST(GradEdge, MovingPointLightShadow) {
@@ -125,12 +129,9 @@ TEST(GradEdge, MovingPointLightShadow) {
   move.axis = {1.0f, 0.0f, 0.0f};
   scene.parameters.push_back(move);
   GradientResult g = edgeGradient(scene, "lamp_x", 2048);
-  LayerEstimate fd = finiteDifference(scene, "lamp_x", kOccluderStep);
-  double level = sidakLevel(kAlpha, kResolution * kResolution);
-  Checker{level}.expect("d/dx interior + edge vs fd", term(g.total, 0), fd);
-  // The shadow's rim covers fewer pixels than the occluder's own (measured: 11 of 256 rejected
-  // without the edge term, worst t 15).
-  EXPECT_GT(rejectedWithoutEdges(g, fd, level), 5u);
+  // The lamp's shadow rim covers fewer pixels (measured: 11 of 256 rejected without the edge
+  // term, worst t 15).
+  expectMatchesFd(scene, g, "lamp_x", kOccluderStep, 5);
 }
 
 }  // namespace

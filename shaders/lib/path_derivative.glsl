@@ -51,6 +51,15 @@ VertexDual rayVertexDual(uint triangle, vec2 uv, vec3 dir, uint lane) {
   return v;
 }
 
+// Position of a camera ray's first hit along `dir` for one lane, in the interior pass's
+// parametrisation: on its fixed ray behind a pinhole, a material point at a point sensor.
+Dual3 firstHitPositionDual(uint triangle, vec2 uv, vec3 dir, uint lane) {
+  Dual3 p0, p1, p2;
+  triangleDual(triangle, lane, p0, p1, p2);
+  if (kSpecCameraTypeValue == kCameraPerspective) return rayHitDual(dir, p0, p1, p2, uv);
+  return dBarycentric(p0, p1, p2, uv);
+}
+
 float laneRate(uint lane, uint kind, uint target) {
   GpuLane l = lanes[lane];
   return (l.info.x == kind && l.info.y == target) ? 1.0 : 0.0;

@@ -80,6 +80,13 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
   report.device = context.report().name;
   Renderer renderer(context);
   auto log = [&](const std::string& s) { if (options.log) options.log(s); };
+  auto record = [&](const BenchGradPoint& p) {
+    char line[256];
+    std::snprintf(line, sizeof line, "%-18s %-32s spp %6u  %8.3f s  relMSE %.3e", p.gate.c_str(), p.estimator.c_str(),
+                  p.spp, p.seconds, p.relMse);
+    log(line);
+    report.points.push_back(p);
+  };
 
   struct Case {
     Gate gate;
@@ -124,12 +131,7 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
           times.push_back(g.stats.seconds);
           errors.push_back(relMse(g.total.derivatives[0].layers[0].pixels, {reference}));
         }
-        BenchGradPoint p{"confocal", c.name, e.name, spp, median(times), median(errors)};
-        char line[256];
-        std::snprintf(line, sizeof line, "%-18s %-32s spp %6u  %8.3f s  relMSE %.3e", c.name.c_str(), e.name.c_str(), spp,
-                      p.seconds, p.relMse);
-        log(line);
-        report.points.push_back(p);
+        record({"confocal", c.name, e.name, spp, median(times), median(errors)});
       }
     }
   }
@@ -165,13 +167,8 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
           times.push_back(g.stats.seconds);
           errors.push_back(relMse(g.total.derivatives[0].layers[0].pixels, {reference}));
         }
-        BenchGradPoint p{"separated", name, mode == AntitheticMode::On ? "antithetic" : "plain", firstSpp << step,
-                         median(times), median(errors)};
-        char line[256];
-        std::snprintf(line, sizeof line, "%-18s %-32s spp %6u  %8.3f s  relMSE %.3e", p.gate.c_str(),
-                      p.estimator.c_str(), p.spp, p.seconds, p.relMse);
-        log(line);
-        report.points.push_back(p);
+        record({"separated", name, mode == AntitheticMode::On ? "antithetic" : "plain", firstSpp << step,
+                median(times), median(errors)});
       }
     }
   }
@@ -196,12 +193,7 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
         times.push_back(g.stats.seconds);
         errors.push_back(normalizedMse(g.total.derivatives[0].layers[0].pixels, reference));
       }
-      BenchGradPoint p{"default 32x32", "box 4-5.5 m (edge term)", "edge samples", go.sppEdge, median(times), median(errors)};
-      char line[256];
-      std::snprintf(line, sizeof line, "%-18s %-32s spp %6u  %8.3f s  relMSE %.3e", p.gate.c_str(), p.estimator.c_str(),
-                    p.spp, p.seconds, p.relMse);
-      log(line);
-      report.points.push_back(p);
+      record({"default 32x32", "box 4-5.5 m (edge term)", "edge samples", go.sppEdge, median(times), median(errors)});
     }
   }
 

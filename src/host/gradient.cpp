@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "host/planner.h"
 #include "vktg/error.h"
 
 namespace vktg {
@@ -48,9 +49,12 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
   } else if (!movesLength) {
     plan.reasons.push_back("no path-length-boundary pass: no selected parameter changes path lengths or moves the gate");
   } else {
-    plan.pathLength = true;
-    plan.reasons.push_back("path-length-boundary pass: the gate jumps at " + std::to_string(gate.jumpLocations().size()) +
-                           " lengths and parameters move path lengths across them");
+    // A connection from vertex e closes a path of e + 2 segments.
+    if (scene.render.maxDepth >= firstEllipsoidVertex(scene.camera.type) + 2) {
+      plan.pathLengthPerPixel = true;
+      plan.reasons.push_back("path-length-boundary pass: the gate jumps at " + std::to_string(gate.jumpLocations().size()) +
+                             " lengths and parameters move path lengths across them");
+    }
     bool emitters = std::any_of(scene.shapes.begin(), scene.shapes.end(), [](const Shape& sh) { return sh.emission > 0; });
     if (scene.camera.type == CameraType::Perspective && scene.render.maxDepth >= 2) {
       plan.pathLengthFromCamera = true;
@@ -60,6 +64,10 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
       plan.pathLengthFromCamera = true;
       plan.reasons.push_back("path-length-boundary connections from the camera to emitters it sees directly, splatted (one-segment paths)");
     }
+    plan.pathLength = plan.pathLengthPerPixel || plan.pathLengthFromCamera;
+    if (!plan.pathLength)
+      plan.reasons.push_back("no path-length-boundary pass: max depth " + std::to_string(scene.render.maxDepth) +
+                             " leaves no path a connection could place on a jump");
   }
   bool twoJumps = gate.type == GateType::Box || gate.type == GateType::TruncatedGaussian;
   bool nearDelta = (gate.type == GateType::Gaussian && gate.sigma <= kNearDeltaSigmaOverMu * gate.mu) ||
@@ -162,7 +170,7 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
     RenderOptions term = base;
     term.pathLengthBoundary = true;
     term.antithetic = result.plan.antithetic;
-    result.pathLength = boundaryTerm(options.sppBoundary, term);
+    if (result.plan.pathLengthPerPixel) accumulateTerm(result.pathLength, boundaryTerm(options.sppBoundary, term));
     if (result.plan.pathLengthFromCamera) {
       term.pathLengthFromCamera = true;
       accumulateTerm(result.pathLength, boundaryTerm(options.sppBoundary, term));

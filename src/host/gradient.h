@@ -24,8 +24,9 @@ struct GradientOptions {
 // What the gradient planner runs and why.
 struct GradientPlan {
   bool interior = false;
-  bool pathLength = false;
-  bool pathLengthFromCamera = false;  // the path-length term's connections from a pinhole (splatted)
+  bool pathLength = false;            // some path-length-boundary render runs:
+  bool pathLengthPerPixel = false;    //   connections from the path's own vertices
+  bool pathLengthFromCamera = false;  //   connections from the camera (splatted)
   bool edges = false;
   bool antithetic = false;
   std::vector<std::string> reasons;

@@ -32,7 +32,7 @@ RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode
   plan.layers = gate.layers();
   plan.gateWidth = gate.width();
   plan.pathSpread = std::max(double(glm::length(prepared.boundsMax - prepared.boundsMin)), 1e-9);
-  plan.firstEllipsoidVertex = scene.camera.type == CameraType::PointSensor ? 0 : 1;
+  plan.firstEllipsoidVertex = firstEllipsoidVertex(scene.camera.type);
   bool fromScene = requested == NeeMode::Auto;
   NeeMode mode = fromScene ? scene.render.nee : requested;
   // Name where the choice came from: the scene file's render.nee or the --nee option.

@@ -22,6 +22,10 @@ struct RenderPlan {
 // standard path tracer would land almost every sample outside such a gate.
 inline constexpr double kEllipsoidalGateFraction = 0.05;
 
+// The first path vertex an ellipsoidal connection can start from: the point sensor itself, or the
+// first hit behind a pinhole (whose pixel fixes it).
+inline uint32_t firstEllipsoidVertex(CameraType camera) { return camera == CameraType::PointSensor ? 0 : 1; }
+
 // `requested` overrides the scene's setting unless Auto. Throws vktg::Error for impossible
 // requests (ellipsoidal NEE with a steady gate).
 RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode requested);

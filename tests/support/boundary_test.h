@@ -102,16 +102,31 @@ struct Checker {
   }
 };
 
-inline Scene confocalBoxScene(double a, double b, uint32_t spp, uint32_t seed) {
-  Scene scene = confocalPlaneScene(kHeight, 2.0, 2.0, kRho, kIntensity);
+// Box gate [a, b], spp and seed, max depth 2 (sensor -> plane -> light).
+inline void boxGateAndBudget(Scene& scene, double a, double b, uint32_t spp, uint32_t seed) {
   scene.gate.type = GateType::Box;
   scene.gate.a = a;
   scene.gate.b = b;
   scene.render.spp = spp;
   scene.render.seed = seed;
   scene.render.maxDepth = 2;
+}
+
+inline Scene confocalBoxScene(double a, double b, uint32_t spp, uint32_t seed) {
+  Scene scene = confocalPlaneScene(kHeight, 2.0, 2.0, kRho, kIntensity);
+  boxGateAndBudget(scene, a, b, spp, seed);
   addTranslation(scene, "t", "plane", {0.0f, 0.0f, 1.0f});
   addGateCenter(scene, "c");
+  return scene;
+}
+
+// Sensor and light 1 m apart at height 1 above the plane (half-extent 2 x 2), box gate [a, b],
+// max depth 2 (sensor -> plane -> light); parameters lx and lz move the light along x and z.
+inline Scene separatedBoxScene(double a, double b, uint32_t spp, uint32_t seed) {
+  Scene scene = separatedPlaneScene(1.0, 1.0, 2.0, 2.0, kRho, kIntensity);
+  boxGateAndBudget(scene, a, b, spp, seed);
+  addLightMove(scene, "lx", "light", {1.0f, 0.0f, 0.0f});
+  addLightMove(scene, "lz", "light", {0.0f, 0.0f, 1.0f});
   return scene;
 }
 
