@@ -141,14 +141,17 @@ float cameraConnection(vec3 position, vec3 normal, out uint pixel, out vec3 wc, 
 }
 
 // The camera side of a boundary segment that leaves x_a along w: a walk of c >= 1 segments back
-// to the camera, so the boundary segment can sit at any depth of the path. At each vertex the walk
-// connects to the camera with probability kConnectProbability (always at its last allowed vertex)
-// or samples the BSDF away from it (reciprocal BSDFs: the walk runs against the light's direction).
+// to the camera, so the boundary segment can sit at any depth of the path. At each vertex that
+// sees the camera (f != 0 towards it) the walk connects with probability kConnectProbability
+// (always at its last allowed vertex) or samples the BSDF away from it (reciprocal BSDFs: the walk
+// runs against the light's direction); a vertex that cannot connect always continues, so a
+// boundary the camera sees only via a bounce does not lose half its samples to hidden connections
+// (unbiased: the choice depends only on the walk so far).
 // It does not continue through a dielectric (refraction would need the adjoint 1/eta^2 and the
-// optical length inside): boundary segments seen only through glass are sampled at depth 1 only. Returns the camera side's
-// weight including f at x_a (0 on failure), with the pixel, the camera side's optical length, c
-// (x_a's depth), the camera's direction from x_a when c = 1 (for its ray-form velocity) and the
-// IOR of the medium the boundary segment runs in.
+// optical length inside): boundary segments seen only through glass are sampled at depth 1 only.
+// Returns the camera side's weight including f at x_a (0 on failure), with the pixel, the camera
+// side's optical length, c (x_a's depth), the camera's direction from x_a when c = 1 (for its
+// ray-form velocity) and the IOR of the medium the boundary segment runs in.
 const float kConnectProbability = 0.5;
 
 float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out float len, out uint depth,
@@ -168,24 +171,26 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
     Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimEdgeWalk + c, frame.image.w);
     vec4 u = rngNext4(rng);
     bool last = c == maxSegments;
-    if (last || u.w < kConnectProbability) {
-      vec3 wc;
-      float r;
-      float camera = cameraConnection(position, normal, pixel, wc, r);
-      if (camera == 0.0) return 0.0;
-      float f = bsdfEval(m, normal, wc, toward);
-      if (f == 0.0) return 0.0;
+    vec3 wc;
+    float r;
+    uint connectedPixel;
+    float connection = cameraConnection(position, normal, connectedPixel, wc, r);
+    if (connection != 0.0) connection *= bsdfEval(m, normal, wc, toward);
+    float connectProbability = connection == 0.0 ? 0.0 : (last ? 1.0 : kConnectProbability);
+    if (u.w < connectProbability) {
       if (c == 1u) {
         cameraRay = -wc;
         if (dot(normal, toward) * dot(normal, wc) < 0.0) ior = dot(normal, toward) < 0.0 ? m.ior : 1.0;
       }
       addLength(len, comp, r);
       depth = c;
-      return weight * camera * f / (last ? 1.0 : kConnectProbability);
+      pixel = connectedPixel;
+      return weight * connection / connectProbability;
     }
+    if (last) return 0.0;
     BsdfSample bs;
     if (m.type == kMaterialDielectric || !bsdfSample(m, normal, toward, u.xyz, bs)) return 0.0;
-    weight *= bs.weight / (1.0 - kConnectProbability);
+    weight *= bs.weight / (1.0 - connectProbability);
     HitRecord hit;
     if (!traceClosest(position, bs.wo, frame.sceneInfo.x, kInfinity, hit)) return 0.0;
     SurfacePoint next = surfacePoint(floatBitsToUint(hit.tuvTriangle.w), hit.tuvTriangle.yz);

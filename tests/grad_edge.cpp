@@ -10,7 +10,10 @@
 //  3. all three terms together: the same scene under a box gate, whose jumps add the path-length
 //     boundary of the paths that bounce off the moving square;
 //  4. a moving point light: the same square and floor lit by a point light that moves sideways,
-//     so the shadow moves with the light's velocity at the light end of the boundary segment.
+//     so the shadow moves with the light's velocity at the light end of the boundary segment;
+//  5. a shadow seen only via a bounce: the camera sees a wall lit by the floor, never the floor,
+//     the occluder or a shadow on the wall, so every boundary segment is the path's second or third
+//     (the camera-side walk of sample_edges at depth 2).
 // Every comparison is a t-test with the measured standard errors of both sides, Sidak-corrected
 // (alpha 1e-3) over all pixels and comparisons of its test.
 #include <gtest/gtest.h>
@@ -132,6 +135,36 @@ TEST(GradEdge, MovingPointLightShadow) {
   // The lamp's shadow rim covers fewer pixels (measured: 11 of 256 rejected without the edge
   // term, worst t 15).
   expectMatchesFd(scene, g, "lamp_x", kOccluderStep, 5);
+}
+
+TEST(GradEdge, ShadowSeenOnlyViaABounce) {
+  // The black square hangs between a ceiling light and the floor; the pinhole looks level at a
+  // wall 4 m away with a 20 degree field of view, below the light and above the square and the
+  // floor, and lines from the wall to the light pass above the square. Black square: its own
+  // paths end there, so the interior term is exactly 0 and the derivative is the edge term of
+  // boundary segments that start on the wall (segment 2: wall -> floor past the square) or on the
+  // floor (segment 3: floor -> light). The wall's light from the floor is an integral over the
+  // shadow, smooth in the square's position, so a large FD step is exact enough.
+  std::string text = R"({"version": 1,
+    "camera": {"type": "perspective", "position": [1.9, 1.5, 0], "look_at": [-2, 1.5, 0], "fov_y": 20, "resolution": [16, 16]},
+    "gate": {"type": "steady"},
+    "materials": {"white": {"type": "diffuse", "albedo": 0.8}, "black": {"type": "diffuse", "albedo": 0}},
+    "shapes": [
+      {"name": "floor", "type": "rectangle", "material": "white", "transform": {"rotate": [-90, 0, 0], "scale": 2}},
+      {"name": "wall", "type": "rectangle", "material": "white", "transform": {"translate": [-2, 1.5, 0], "rotate": [0, 90, 0], "scale": 1.5}},
+      {"name": "square", "type": "rectangle", "material": "black", "transform": {"translate": [0.2, 1, 0], "rotate": [90, 0, 0], "scale": [0.3, 0.3, 1]}},
+      {"name": "light", "type": "rectangle", "material": "black", "emission": 20, "transform": {"translate": [0, 2, 0], "rotate": [90, 0, 0], "scale": [0.2, 0.2, 1]}}],
+    "parameters": [{"name": "square_x", "type": "translate", "shape": "square", "axis": [1, 0, 0]}],
+    "render": {"spp": 256, "max_depth": 3, "seed": 3}})";
+  Scene scene = parseSceneJson(text, "bounce.json", ".");
+  GradientResult g = edgeGradient(scene, "square_x", 8192);
+  LayerEstimate fd = finiteDifference(scene, "square_x", 0.05);
+  double level = sidakLevel(kAlpha, 2 * kResolution * kResolution + 1);
+  Checker check{level};
+  check.expect("d/dx total vs fd", term(g.total, 0), fd);
+  check.expect("d/dx image sum vs fd", sumPixels(term(g.total, 0)), sumPixels(fd));
+  check.expect("d/dx interior = 0", term(g.interior, 0), exactLayer(std::vector<double>(fd.mean.size(), 0.0)));
+  EXPECT_GT(rejectedWithoutEdges(g, fd, level), 10u);
 }
 
 }  // namespace

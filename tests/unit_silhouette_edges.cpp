@@ -81,5 +81,33 @@ TEST(SilhouetteEdges, SeparateShapesSharingAnEdgePositionAreOneCrease) {
   expectValidCdf(edges);
 }
 
+TEST(SilhouetteEdges, MovingEdgesGetHalfTheMass) {
+  // A 4 x 4 rectangle (rim 16) and a 1 x 1 one beside it (rim 4) whose vertices move.
+  Scene scene = sceneWith(R"({"name": "big", "type": "rectangle", "material": "m", "transform": {"scale": 2}},
+    {"name": "small", "type": "rectangle", "material": "m", "transform": {"translate": [5, 0, 0], "scale": 0.5}})");
+  PreparedScene prepared = prepareScene(scene);
+  std::vector<bool> moving(prepared.vertices.size(), false);
+  for (size_t v = 0; v < moving.size(); ++v) moving[v] = prepared.vertices[v].x > 3.0f;
+  std::vector<gpu::GpuEdge> edges = silhouetteEdges(prepared, moving);
+  ASSERT_EQ(edges.size(), 8u);
+  double previous = 0, pmfSum = 0, movingMass = 0;
+  for (const gpu::GpuEdge& e : edges) {
+    bool onSmall = e.p0.x > 3.0f;
+    // Length share of 20 for the static half; the small rim's share of its 4 for the moving half.
+    double expected = (1.0 - kMovingEdgeShare) * lengthOf(e) / 20.0 + (onSmall ? kMovingEdgeShare * lengthOf(e) / 4.0 : 0.0);
+    EXPECT_NEAR(e.inward1.w, expected, 1e-6);
+    EXPECT_GE(e.inward0.w, previous);
+    previous = e.inward0.w;
+    pmfSum += e.inward1.w;
+    if (onSmall) movingMass += e.inward1.w;
+  }
+  EXPECT_NEAR(pmfSum, 1.0, 1e-5);
+  EXPECT_NEAR(movingMass, kMovingEdgeShare + (1.0 - kMovingEdgeShare) * 4.0 / 20.0, 1e-5);
+  EXPECT_FLOAT_EQ(edges.back().inward0.w, 1.0f);
+  // Everything moving, or nothing: selection by length.
+  expectValidCdf(silhouetteEdges(prepared, std::vector<bool>(moving.size(), true)));
+  expectValidCdf(silhouetteEdges(prepared, std::vector<bool>(moving.size(), false)));
+}
+
 }  // namespace
 }  // namespace vktg

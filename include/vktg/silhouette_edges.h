@@ -13,7 +13,14 @@ namespace vktg {
 // (one face) and creases whose faces are not coplanar; an edge of three or more faces (non-manifold)
 // is kept as the crease of its first two. Dropped: flat creases, which no line can graze without
 // entering a face on both sides. Degenerate (zero-length) edges are dropped. The CDF (inward0.w)
-// selects edges proportionally to length; pmf in inward1.w.
-std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared);
+// selects edges, pmf in inward1.w: proportionally to length, or, when `movingVertex` (per vertex
+// of `prepared`) marks some edges as moving and others not, half the mass on the moving edges by
+// length and half on all edges by length. A static edge still carries the term where an end of
+// its boundary segment moves (a moving light, x_a or x_b on a moving shape), hence the defensive
+// half; a moving edge is where the term usually is.
+std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const std::vector<bool>& movingVertex = {});
+
+// The share of the selection mass silhouetteEdges puts on moving edges alone.
+inline constexpr double kMovingEdgeShare = 0.5;
 
 }  // namespace vktg

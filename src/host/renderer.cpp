@@ -48,6 +48,15 @@ std::vector<gpu::GpuLane> laneTable(const std::vector<ParameterBinding>& binding
   return lanes;
 }
 
+// Vertices any lane moves: the edge pass puts extra selection mass on their edges.
+std::vector<bool> movingVertices(const std::vector<ParameterBinding>& bindings, size_t vertexCount) {
+  std::vector<bool> moving(vertexCount, false);
+  for (const ParameterBinding& b : bindings)
+    for (size_t v = 0; v < b.vertexVelocity.size() && v < vertexCount; ++v)
+      if (b.vertexVelocity[v] != glm::vec3(0.0f)) moving[v] = true;
+  return moving;
+}
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -104,7 +113,9 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the film (" +
                 std::to_string(filmBytes >> 20) + " MiB) and the scene (" + std::to_string(gpuScene.bytes >> 20) +
                 " MiB); raise it");
-  const std::vector<gpu::GpuEdge> edgeList = edges ? silhouetteEdges(prepared) : std::vector<gpu::GpuEdge>{};
+  const std::vector<gpu::GpuEdge> edgeList =
+      edges ? silhouetteEdges(prepared, movingVertices(options.derivativeLanes, prepared.vertices.size()))
+            : std::vector<gpu::GpuEdge>{};
   Buffer edgeBuffer(context, std::max<size_t>(16, edgeList.size() * sizeof(gpu::GpuEdge)), MemoryKind::Device, "scene.edges");
   edgeBuffer.upload(context, edgeList.data(), edgeList.size() * sizeof(gpu::GpuEdge));
   const uint32_t batchSize =

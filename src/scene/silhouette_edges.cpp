@@ -30,7 +30,7 @@ constexpr float kFlatCrease = 1e-6f;
 
 }  // namespace
 
-std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared) {
+std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const std::vector<bool>& movingVertex) {
   std::map<std::pair<PositionKey, PositionKey>, EdgeFaces> edges;
   for (const glm::uvec4& tri : prepared.triangleVerts) {
     uint32_t ids[3] = {tri.x, tri.y, tri.z};
@@ -57,7 +57,9 @@ std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared) {
     }
   }
   std::vector<gpu::GpuEdge> out;
-  double total = 0;
+  std::vector<double> lengths;
+  std::vector<bool> moving;
+  double total = 0, totalMoving = 0;
   for (const auto& [key, faces] : edges) {
     if (faces.inward.size() >= 2 && std::abs(glm::dot(faces.normal[0], faces.normal[1])) > 1.0f - kFlatCrease &&
         glm::dot(faces.inward[0], faces.inward[1]) < 0.0f)
@@ -71,15 +73,20 @@ std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared) {
     std::memcpy(&edge.p1.w, &v1, sizeof v1);
     edge.inward0 = glm::vec4(faces.inward[0], 0.0f);
     edge.inward1 = glm::vec4(faces.inward.size() >= 2 ? faces.inward[1] : glm::vec3(0.0f), 0.0f);
-    double len = glm::length(p1 - p0);
-    total += len;
-    edge.inward0.w = float(total);
-    edge.inward1.w = float(len);
     out.push_back(edge);
+    lengths.push_back(glm::length(p1 - p0));
+    moving.push_back(!movingVertex.empty() && (movingVertex.at(v0) || movingVertex.at(v1)));
+    total += lengths.back();
+    if (moving.back()) totalMoving += lengths.back();
   }
-  for (gpu::GpuEdge& e : out) {
-    e.inward0.w = float(e.inward0.w / total);
-    e.inward1.w = float(e.inward1.w / total);
+  // Mixing only when it changes something: some edges move and some do not.
+  const double movingShare = totalMoving > 0 && totalMoving < total ? kMovingEdgeShare : 0.0;
+  double cdf = 0;
+  for (size_t i = 0; i < out.size(); ++i) {
+    double pmf = (1.0 - movingShare) * lengths[i] / total + (moving[i] ? movingShare * lengths[i] / totalMoving : 0.0);
+    cdf += pmf;
+    out[i].inward0.w = float(cdf);
+    out[i].inward1.w = float(pmf);
   }
   if (!out.empty()) out.back().inward0.w = 1.0f;
   return out;

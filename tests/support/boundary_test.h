@@ -28,10 +28,15 @@ void addGateCenter(Scene& scene, const std::string& name);
 // An estimate of one image layer: per pixel the mean and the variance of that mean; `dof` is the
 // degrees of freedom of the variance estimate (seeds - 1 for a spread over seeds; a render's own
 // per-sample variance over many samples counts as normal: kNormalDof).
+// `unresolved` (empty: none) marks pixels whose variance was not estimated: a spread over seeds
+// in which no seed saw any change (a rare event, such as a silhouette crossing by an in-gate path,
+// that every seed of the finite difference missed; its variance estimate 0 is no estimate).
 inline constexpr double kNormalDof = 1e9;
 struct LayerEstimate {
   std::vector<double> mean, variance;
   double dof = kNormalDof;
+  std::vector<bool> unresolved;
+  bool isUnresolved(size_t i) const { return !unresolved.empty() && unresolved[i]; }
 };
 LayerEstimate layerOf(const ImageSet& mean, const ImageSet& variance, uint32_t layer);
 // Pixel-wise sum of the layers (variances add: used where the layers are independent estimates or
@@ -54,9 +59,11 @@ SeedDifference seedFiniteDifference(const Scene& scene, const std::string& param
 
 
 // Per-pixel test of a against b (or an exact value: b with zero variance): t = (a - b) / sqrt(va + vb)
-// against the Student-t threshold (Welch-Satterthwaite dof) for the per-test level `level`.
+// against the Student-t threshold (Welch-Satterthwaite dof) for the per-test level `level`. A pixel
+// unresolved on either side that the test would reject is counted in `unresolved` instead: that
+// side's zero variance is no estimate (a difference that rests only on the other side's error).
 struct PixelCheck {
-  size_t tested = 0, rejected = 0;
+  size_t tested = 0, rejected = 0, unresolved = 0;
   double worstT = 0;
   std::string worst;  // the pixel with the largest |t|
 };
@@ -98,7 +105,9 @@ struct Checker {
   void expect(const char* what, const LayerEstimate& a, const LayerEstimate& b) const {
     PixelCheck c = checkPixels(a, b, level);
     EXPECT_EQ(c.rejected, 0u) << what << ": " << c.rejected << " of " << c.tested << " pixels differ; worst " << c.worst;
-    std::printf("  %-44s worst %s\n", what, c.worst.c_str());
+    // Rare events stay rare: a reference blind at many pixels is a broken test, not a pass.
+    EXPECT_LE(c.unresolved, c.tested / 20) << what << ": " << c.unresolved << " of " << c.tested << " pixels unresolved";
+    std::printf("  %-44s worst %s; %zu unresolved\n", what, c.worst.c_str(), c.unresolved);
   }
 };
 
