@@ -156,7 +156,6 @@ const float kConnectProbability = 0.5;
 
 float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out float len, out uint depth,
                  out vec3 cameraRay, out float ior) {
-  GpuMaterial ma = materials[shapes[xa.shape].material];
   pixel = kNoPixel;
   len = 0.0;
   depth = 0u;
@@ -165,9 +164,10 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
   // Segments the camera side may use: the boundary segment needs one, the rest of the path none.
   uint maxSegments = frame.gateInfo.w > 1u ? frame.gateInfo.w - 1u : 0u;
   vec3 position = xa.position, normal = xa.normal, toward = w;  // toward: away from the camera side
-  GpuMaterial m = ma;
+  GpuMaterial m = materials[shapes[xa.shape].material];
   float weight = 1.0, comp = 0.0;
   for (uint c = 1u; c <= maxSegments; ++c) {
+    if (m.type == kMaterialDielectric) return 0.0;  // neither connects (delta BSDF) nor continues (above)
     Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimEdgeWalk + c, frame.image.w);
     vec4 u = rngNext4(rng);
     bool last = c == maxSegments;
@@ -189,7 +189,7 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
     }
     if (last) return 0.0;
     BsdfSample bs;
-    if (m.type == kMaterialDielectric || !bsdfSample(m, normal, toward, u.xyz, bs)) return 0.0;
+    if (!bsdfSample(m, normal, toward, u.xyz, bs)) return 0.0;
     weight *= bs.weight / (1.0 - connectProbability);
     HitRecord hit;
     if (!traceClosest(position, bs.wo, frame.sceneInfo.x, kInfinity, hit)) return 0.0;

@@ -22,6 +22,7 @@
 #include <cstdio>
 
 #include "support/boundary_test.h"
+#include "support/test_gates.h"
 #include "support/test_scenes.h"
 
 namespace vktg::test {
@@ -45,9 +46,7 @@ double response(double h, double mu, double sigma) {
 
 Scene nearDeltaScene(double sigma, uint32_t seed) {
   Scene scene = confocalPlaneScene(kHeight, 2.0, 2.0, kRho, kIntensity);
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = kMu;
-  scene.gate.sigma = sigma;
+  scene.gate = gaussianGate(kMu, sigma);
   scene.render.spp = kSpp;
   scene.render.seed = seed;
   scene.render.maxDepth = 2;

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "support/render_test.h"
+#include "support/test_gates.h"
 #include "support/test_scenes.h"
 
 namespace vktg::test {
@@ -60,9 +61,7 @@ TEST(HardRender, GateBelowShortestPathConfocal) {
   scene.gate.b = 1.9;
   expectExactZero(scene, NeeMode::Standard);
   expectExactZero(scene, NeeMode::Ellipsoidal);
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = 1.0;
-  scene.gate.sigma = 0.1;
+  scene.gate = gaussianGate(1.0, 0.1);
   expectExactZero(scene, NeeMode::Standard);
   expectExactZero(scene, NeeMode::Ellipsoidal);
 }
@@ -101,9 +100,7 @@ void nearDelta(double relativeSigma, uint32_t seed) {
   Scene scene = confocalPlaneScene(1.0, 2.0, 2.0, kRho, 1.0);
   scene.render.spp = spp;
   scene.render.seed = seed;
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = mu;
-  scene.gate.sigma = sigma;
+  scene.gate = gaussianGate(mu, sigma);
   double reference = confocalGated(
       1.0, kRho, 1.0, [&](double l) { return gaussianWeight(l, mu, sigma); }, mu - kGaussianCutoff * sigma,
       mu + kGaussianCutoff * sigma);
@@ -135,9 +132,7 @@ TEST(HardRender, EllipsoidBarelyLongerThanFocalDistance) {
   Scene scene = separatedPlaneScene(plane.d, h0, plane.halfX, plane.halfY, kRho, plane.intensity);
   scene.render.spp = 20000;
   scene.render.seed = 610;
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = mu;
-  scene.gate.sigma = sigma;
+  scene.gate = gaussianGate(mu, sigma);
   double reference = separatedPlaneGaussianFloat(plane, mu, sigma);
   expectPointSensor(scene, NeeMode::Ellipsoidal, reference, "ellipsoid 1e-6 longer than its foci");
 }
@@ -174,9 +169,7 @@ void scaled(double h, uint32_t seed) {
   expectPointSensor(scene, NeeMode::Standard, box, h < 1 ? "h = 1e-3, box" : "h = 1e3, box");
   scene.render.spp = 10000;
   expectPointSensor(scene, NeeMode::Ellipsoidal, box, h < 1 ? "h = 1e-3, box" : "h = 1e3, box");
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = 2.4 * h;
-  scene.gate.sigma = 0.1 * h;
+  scene.gate = gaussianGate(2.4 * h, 0.1 * h);
   double gauss = confocalGated(
       1.0, kRho, 1.0, [](double l) { return gaussianWeight(l, 2.4, 0.1); }, 2.4 - kGaussianCutoff * 0.1,
       2.4 + kGaussianCutoff * 0.1);

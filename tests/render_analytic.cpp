@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "support/render_test.h"
+#include "support/test_gates.h"
 #include "support/test_scenes.h"
 
 namespace vktg::test {
@@ -58,9 +59,7 @@ TEST(RenderAnalytic, ConfocalPlaneBoxGate) {
 // radius 2 h again. Part of the support lies below the shortest path 2h (no response there).
 TEST(RenderAnalytic, ConfocalPlaneGaussianGate) {
   Scene scene = confocal(2.0, 100000, 21);
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = 2.4;
-  scene.gate.sigma = 0.1;
+  scene.gate = gaussianGate(2.4, 0.1);
   double lo = 2.4 - kGaussianCutoff * 0.1, hi = 2.4 + kGaussianCutoff * 0.1;
   double reference = confocalGated(
       kHeight, kRho, kIntensity, [](double l) { return gaussianWeight(l, 2.4, 0.1); }, lo, hi);
@@ -72,10 +71,7 @@ TEST(RenderAnalytic, ConfocalPlaneGaussianGate) {
 // Normalised gaussian (W divided by sigma sqrt(2 pi)): the same response scaled by that factor.
 TEST(RenderAnalytic, ConfocalPlaneNormalizedGaussianGate) {
   Scene scene = confocal(2.0, 50000, 31);
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = 2.3;
-  scene.gate.sigma = 0.05;
-  scene.gate.normalize = true;
+  scene.gate = gaussianGate(2.3, 0.05, true);
   double lo = 2.3 - kGaussianCutoff * 0.05, hi = 2.3 + kGaussianCutoff * 0.05;
   double reference = confocalGated(
                          kHeight, kRho, kIntensity, [](double l) { return gaussianWeight(l, 2.3, 0.05); }, lo, hi) /

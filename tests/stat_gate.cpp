@@ -41,7 +41,7 @@ constexpr double kMeanZ = 3.89;
 std::vector<GateCase> gateCases() {
   std::vector<GateCase> cases = representativeGates();
   // mu < 6.5 sigma: the sampler draws negative lengths, which no path has.
-  cases.push_back({"gaussian_near_zero", gaussianGateCase(0.5, 0.25, false)});
+  cases.push_back({"gaussian_near_zero", gaussianGate(0.5, 0.25)});
   return cases;
 }
 

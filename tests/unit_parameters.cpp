@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/table_case_name.h"
 #include "vktg/error.h"
 #include "vktg/parameters.h"
 #include "vktg/scene.h"
@@ -476,14 +477,7 @@ TEST_P(ParameterErrorCase, NamesFileFieldAndProblem) {
   EXPECT_NE(message.find(GetParam().keyword), std::string::npos) << message;
 }
 
-std::string caseName(const testing::TestParamInfo<BadCase>& info) {
-  std::string name = info.param.name;
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-}
-
-INSTANTIATE_TEST_SUITE_P(Table, ParameterErrorCase, testing::ValuesIn(kCases), caseName);
+INSTANTIATE_TEST_SUITE_P(Table, ParameterErrorCase, testing::ValuesIn(kCases), test::tableCaseName<BadCase>);
 
 TEST(Parameters, IndicesInTheErrorTableAreRight) {
   const json j = baseScene();

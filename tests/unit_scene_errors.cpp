@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/table_case_name.h"
 #include "vktg/error.h"
 #include "vktg/scene.h"
 
@@ -143,14 +144,7 @@ TEST_P(SceneErrorCase, NamesFileFieldAndProblem) {
   EXPECT_NE(message.find(GetParam().keyword), std::string::npos) << message;
 }
 
-std::string caseName(const testing::TestParamInfo<BadCase>& info) {
-  std::string name = info.param.name;
-  for (char& c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  return name;
-}
-
-INSTANTIATE_TEST_SUITE_P(Table, SceneErrorCase, testing::ValuesIn(kCases), caseName);
+INSTANTIATE_TEST_SUITE_P(Table, SceneErrorCase, testing::ValuesIn(kCases), test::tableCaseName<BadCase>);
 
 TEST(SceneErrors, MeshErrorsAlsoNameTheGltfFile) {
   json scene = baseScene();

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "support/gpu_context.h"
+#include "support/test_gates.h"
 #include "support/test_scenes.h"
 
 namespace vktg::test {
@@ -234,9 +235,7 @@ constexpr uint32_t kSeeds = 16;
 
 Scene confocalScene(uint32_t spp, uint32_t seed) {
   Scene scene = confocalPlaneScene(kConfocalHeight, 3.0, 3.0, kConfocalRho, kConfocalIntensity);
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = kConfocalMu;
-  scene.gate.sigma = kConfocalSigma;
+  scene.gate = gaussianGate(kConfocalMu, kConfocalSigma);
   scene.render.spp = spp;
   scene.render.seed = seed;
   Parameter p;
@@ -387,9 +386,7 @@ Scene litPlaneScene(MaterialType type, uint32_t spp, uint32_t seed) {
   scene.pointLights.push_back({"point", {-0.9f, 0.3f, 1.2f}, 2.0f});
   scene.camera = pinholeCamera({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 30.0f, 12);
   // Paths reaching the plane's edge (4 m out) are longer than the support's end, 7.25 m.
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = 4.0;
-  scene.gate.sigma = 0.5;
+  scene.gate = gaussianGate(4.0, 0.5);
   scene.render.spp = spp;
   scene.render.seed = seed;
   scene.render.maxDepth = 4;

@@ -2,7 +2,7 @@
 
 namespace vktg::test {
 
-Gate gaussianGateCase(double mu, double sigma, bool normalize) {
+Gate gaussianGate(double mu, double sigma, bool normalize) {
   Gate g;
   g.type = GateType::Gaussian;
   g.mu = mu;
@@ -25,8 +25,8 @@ std::vector<GateCase> representativeGates() {
   bins.binStart = 3.0;
   bins.binWidth = 0.25;
   bins.binCount = 8;
-  return {{"gaussian", gaussianGateCase(4.25, 0.125, false)},
-          {"gaussian_normalised", gaussianGateCase(4.25, 0.125, true)},
+  return {{"gaussian", gaussianGate(4.25, 0.125)},
+          {"gaussian_normalised", gaussianGate(4.25, 0.125, true)},
           {"box", box},
           {"truncated_gaussian", tgauss},
           {"bins", bins}};

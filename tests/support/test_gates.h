@@ -16,7 +16,8 @@ struct GateCase {
 // Test names print the case's name rather than its bytes.
 inline void PrintTo(const GateCase& c, std::ostream* os) { *os << c.name; }
 
-Gate gaussianGateCase(double mu, double sigma, bool normalize);
+// A gaussian gate W(L) = exp(-(L - mu)^2 / (2 sigma^2)) (divided by sigma sqrt(2 pi) if normalized).
+Gate gaussianGate(double mu, double sigma, bool normalize = false);
 // gaussian, gaussian_normalised, box, truncated_gaussian, bins.
 std::vector<GateCase> representativeGates();
 // The smallest scene that carries `gate` to the GPU (uploading needs one shape and one emitter).
