@@ -9,6 +9,7 @@
 
 #include "support/cpu_path_tracer.h"
 #include "support/render_test.h"
+#include "support/test_gates.h"
 #include "support/test_scenes.h"
 
 namespace vktg::test {
@@ -149,9 +150,7 @@ TEST(RenderConsistency, NeeModesAgreePointSensorBox) {
 
 TEST(RenderConsistency, NeeModesAgreePointSensorGaussian) {
   Scene scene = sensorCornell(100000, 410);
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = 3.5;
-  scene.gate.sigma = 0.2;
+  scene.gate = gaussianGate(3.5, 0.2);
   expectNeeModesAgree(scene, "point sensor, gaussian (3.5, 0.2): ellipsoidal vs standard");
 }
 
@@ -172,9 +171,7 @@ TEST(RenderConsistency, NeeModesAgreePerspectiveBox) {
 
 TEST(RenderConsistency, NeeModesAgreePerspectiveGaussian) {
   Scene scene = perspectiveCornell(256, 430);
-  scene.gate.type = GateType::Gaussian;
-  scene.gate.mu = 6.5;
-  scene.gate.sigma = 0.25;
+  scene.gate = gaussianGate(6.5, 0.25);
   expectNeeModesAgree(scene, "perspective, gaussian (6.5, 0.25): ellipsoidal vs standard");
 }
 
