@@ -12,8 +12,11 @@ std::atomic<int> g_signal{0};
 
 extern "C" void onInterruptSignal(int signal) {
   int expected = 0;
-  // A second signal while the first is still being honoured: give the default action back.
-  if (!g_signal.compare_exchange_strong(expected, signal)) std::signal(signal, SIG_DFL);
+  // A second signal while the first is still being honoured: the default action, at once.
+  if (!g_signal.compare_exchange_strong(expected, signal)) {
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+  }
 }
 
 }  // namespace

@@ -17,8 +17,8 @@ class Interrupted : public Error {
   int m_signal;
 };
 
-// Routes SIGINT and SIGTERM to the flag (idempotent). A second signal of the same kind while the
-// first is pending restores the default action, so a stuck run can still be killed.
+// Routes SIGINT and SIGTERM to the flag (idempotent). A second signal while the first is pending
+// takes the default action (the process ends), so a stuck run can still be stopped.
 void installInterruptHandlers();
 // The signal that asked the run to stop, or 0.
 int interruptSignal();
