@@ -4,6 +4,7 @@
 // vktg/scene.h includes this header (Scene holds its parameters), so include vktg/scene.h to call
 // the functions below.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -65,6 +66,19 @@ std::string parameterProblem(const Scene& scene, const Parameter& parameter);
 // [0.001, 1], ior > 1, emission and intensity > 0 so the emitter stays a light, a valid gate):
 // beyond it the renderer clamps or drops the value and the difference quotient would be wrong.
 Scene perturbScene(const Scene& scene, const std::string& name, double delta);
+
+// The values θ may take so that the scene stays inside what the scene format accepts (the ranges
+// perturbScene enforces): albedo in [0, 1], roughness in [0.001, 1], ior > 1, emission and intensity
+// > 0, a gate with a, mu, start >= 0; geometric parameters are unbounded. `lowOpen`/`highOpen` say
+// whether an end is excluded (then a projection must stay strictly inside).
+struct ParameterRange {
+  double low = -INFINITY, high = INFINITY;
+  bool lowOpen = false, highOpen = false;
+  bool contains(double theta) const {
+    return (lowOpen ? theta > low : theta >= low) && (highOpen ? theta < high : theta <= high);
+  }
+};
+ParameterRange parameterRange(const Scene& scene, const Parameter& parameter);
 
 // What one selected parameter touches, in the form the renderer uploads.
 struct ParameterBinding {

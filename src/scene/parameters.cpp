@@ -308,6 +308,47 @@ Scene perturbScene(const Scene& scene, const std::string& name, double delta) {
   return out;
 }
 
+ParameterRange parameterRange(const Scene& scene, const Parameter& p) {
+  ParameterRange r;
+  auto above = [&](double base, double lo) {
+    r.low = lo - base;
+    r.lowOpen = true;
+  };
+  auto between = [&](double base, double lo, double hi) {
+    r.low = lo - base;
+    r.high = hi - base;
+  };
+  switch (p.kind) {
+    case ParameterKind::Translate:
+    case ParameterKind::Rotate:
+    case ParameterKind::Displace:
+    case ParameterKind::LightPosition: break;
+    case ParameterKind::Emission: above(scene.shapes[size_t(indexByName(scene.shapes, p.target))].emission, 0.0); break;
+    case ParameterKind::Intensity:
+      above(scene.pointLights[size_t(indexByName(scene.pointLights, p.target))].intensity, 0.0);
+      break;
+    case ParameterKind::Albedo: between(scene.materials[size_t(indexByName(scene.materials, p.target))].albedo, 0.0, 1.0); break;
+    case ParameterKind::Roughness:
+      between(scene.materials[size_t(indexByName(scene.materials, p.target))].roughness, kMinRoughness, 1.0);
+      break;
+    case ParameterKind::Ior: above(scene.materials[size_t(indexByName(scene.materials, p.target))].ior, 1.0); break;
+    case ParameterKind::GateCenter: {
+      const Gate& g = scene.gate;
+      double lowest = 0;
+      switch (g.type) {
+        case GateType::Steady: return r;
+        case GateType::Gaussian: lowest = g.mu; break;
+        case GateType::TruncatedGaussian: lowest = std::min(g.mu, g.a); break;
+        case GateType::Box: lowest = g.a; break;
+        case GateType::Bins: lowest = g.binStart; break;
+      }
+      r.low = -lowest;
+      break;
+    }
+  }
+  return r;
+}
+
 std::vector<ParameterBinding> bindParameters(const Scene& scene, const std::vector<std::string>& names) {
   std::vector<uint32_t> firstVertex(scene.shapes.size() + 1, 0);
   for (size_t s = 0; s < scene.shapes.size(); ++s)

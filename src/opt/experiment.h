@@ -1,0 +1,132 @@
+// Experiment files for `vktg optimize` (docs/optimize.md): which scene, which parameters to recover
+// from which time-of-flight images, with which loss, optimiser, constraints and sample budgets.
+// Parsing is strict like the scene format: every error names the file, the JSON path of the field
+// and the problem.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "vktg/gate.h"
+#include "vktg/scene.h"
+
+namespace vktg {
+
+// One optimised scene parameter (a wildcard in the file expands to several, in scene order).
+// θ is absolute: 0 is the scene as written, as for `vktg grad` and `vktg fd`.
+struct ExperimentParameter {
+  std::string name;
+  uint32_t sceneIndex = 0;          // index in Scene::parameters
+  double initial = 0;               // θ at iteration 0
+  std::optional<double> truth;      // θ of the scene the targets show, when known
+  std::string group = "default";    // learning-rate group
+  ParameterRange range;             // projection after each step: the kind's valid range ∩ "range"
+};
+
+// Where a target was seen from: overrides of the scene's camera pose and point-light positions.
+struct TargetView {
+  std::optional<glm::vec3> position;  // camera eye or sensor position
+  std::optional<glm::vec3> lookAt;    // perspective only
+  std::optional<glm::vec3> up;        // perspective only
+  std::optional<glm::vec3> normal;    // point sensor only
+  std::vector<std::pair<uint32_t, glm::vec3>> lightPositions;  // Scene::pointLights index -> position
+};
+
+struct Target {
+  std::string name;                 // unique; names images and log columns
+  TargetView view;
+  Gate gate;                        // default: the scene's gate; may be a transient stack
+  double weight = 1;                // factor on this target's loss
+  std::filesystem::path image;      // an EXR whose size and layers match the view and gate ...
+  bool synthesize = false;          // ... or rendered at the truth with independent random numbers
+  uint32_t synthesizeSpp = 4096;
+  uint32_t synthesizeSeed = 0x5eed;
+};
+
+enum class LossType { L2, L1, RelativeL2 };
+
+struct LossSpec {
+  LossType type = LossType::L2;
+  double epsilon = 1e-2;            // relative L2: keeps the denominator away from 0 (loss.h)
+};
+
+enum class OptimizerType { Adam, Sgd };
+enum class ScheduleType { Constant, Exponential, Step };
+
+struct ScheduleSpec {
+  ScheduleType type = ScheduleType::Constant;
+  double decay = 1.0;               // exponential: lr * decay^iteration; step: lr * decay^(iteration / every)
+  uint32_t every = 1;               // step
+};
+
+struct OptimizerSpec {
+  OptimizerType type = OptimizerType::Adam;
+  double learningRate = 1e-2;       // of the group "default"
+  std::vector<std::pair<std::string, double>> groupRates;  // other groups: name -> learning rate
+  double beta1 = 0.9, beta2 = 0.999, epsilon = 1e-8;       // Adam
+  double momentum = 0.9;            // SGD
+  ScheduleSpec schedule;
+};
+
+// Laplacian smoothness of a shape's vertex positions (heightfields, meshes).
+struct RegularizerSpec {
+  uint32_t shape = 0;               // Scene::shapes index
+  double weight = 0;
+};
+
+// "Large steps" (Nicolet et al. 2021): the gradient of parameters that each displace one vertex of
+// `shape` is replaced by (I + lambda L)^-1 times it, L the uniform Laplacian of the shape's mesh.
+struct PreconditionerSpec {
+  uint32_t shape = 0;
+  double lambda = 0;
+};
+
+// Samples per pixel per iteration for each term, and which terms run.
+struct BudgetSpec {
+  uint32_t sppPrimal = 16;          // the render the loss and its adjoint image come from
+  uint32_t sppInterior = 16;
+  uint32_t sppEdge = 16;
+  uint32_t sppBoundary = 16;
+  bool interior = true, edge = true, pathLength = true;  // the planner still drops terms that cannot contribute
+  std::string antithetic = "auto";  // auto | on | off
+  NeeMode nee = NeeMode::Auto;
+  uint32_t maxDepth = 0;            // 0: the scene's
+};
+
+struct StopSpec {
+  uint32_t iterations = 100;
+  std::optional<double> lossBelow;
+  std::optional<double> parameterErrorBelow;  // RMS of (θ - truth) over parameters with a truth
+  std::optional<double> seconds;
+};
+
+struct Experiment {
+  std::filesystem::path source;     // the experiment file
+  std::string text;                 // its contents (copied into the run directory)
+  std::filesystem::path scenePath;
+  Scene scene;
+  std::vector<ExperimentParameter> parameters;
+  std::vector<Target> targets;
+  LossSpec loss;
+  OptimizerSpec optimizer;
+  std::vector<RegularizerSpec> regularizers;
+  std::optional<PreconditionerSpec> preconditioner;
+  BudgetSpec budget;
+  StopSpec stop;
+  uint32_t checkpointEvery = 10;    // iterations
+  uint32_t imagesEvery = 10;        // iterations between image strips
+  uint32_t seed = 0;                // random numbers of iteration i are keyed by (seed, i)
+};
+
+Experiment loadExperiment(const std::filesystem::path& path);
+Experiment parseExperimentJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir);
+
+// The scene seen from a target: its camera pose and point lights moved as the view says.
+Scene sceneForTarget(const Scene& scene, const Target& target);
+
+}  // namespace vktg
