@@ -63,7 +63,7 @@ void connect(uint slot, vec3 c, LightSample ls, float s, uint jump, float weight
     g *= cosY;
   }
   float value = importance * f * g * ls.emission * es.weight * weight / ls.pdf;
-  uint queued = queueShadowRay(slot, c, x1.position, ls.position, 2u, value, s, jump);
+  uint queued = queueShadowRay(slot, kNoTape, kConnectionStandard, c, x1.position, ls.position, 2u, value, s, jump);
   if (queued == 0xffffffffu) return;
   paths[slot].ids.x = pixel;
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
@@ -97,7 +97,7 @@ void connectDirect(uint slot, vec3 c, float s, uint jump, float weight, vec4 uEl
   float importance = cameraImportance(w, pixel);
   if (importance == 0.0) return;
   float value = importance * emission * cosY / (r * r) * 2.0 * es.weight * weight;
-  uint queued = queueShadowRay(slot, c, y.position, vec3(0.0), 1u, value, s, jump);
+  uint queued = queueShadowRay(slot, kNoTape, kConnectionStandard, c, y.position, vec3(0.0), 1u, value, s, jump);
   if (queued == 0xffffffffu) return;
   paths[slot].ids.x = pixel;
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane)

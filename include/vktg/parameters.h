@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -66,6 +67,16 @@ std::string parameterProblem(const Scene& scene, const Parameter& parameter);
 // [0.001, 1], ior > 1, emission and intensity > 0 so the emitter stays a light, a valid gate):
 // beyond it the renderer clamps or drops the value and the difference quotient would be wrong.
 Scene perturbScene(const Scene& scene, const std::string& name, double delta);
+
+// The scene with several parameters set at once: (index in Scene::parameters, θ) pairs, applied in
+// the order the scene declares the parameters (a rotation and a translation of one shape do not
+// commute). Scalars add up when several parameters target one; range errors as for perturbScene.
+Scene applyParameters(const Scene& scene, const std::vector<std::pair<uint32_t, double>>& values);
+
+// The motion of one vertex under a Translate, Rotate or Displace parameter at θ (Displace moves only
+// the vertices it lists: the caller decides which), and how the same motion turns a direction.
+glm::dvec3 moveVertex(const Parameter& parameter, const glm::dvec3& position, double theta);
+glm::dvec3 turnVector(const Parameter& parameter, const glm::dvec3& vector, double theta);
 
 // The values θ may take so that the scene stays inside what the scene format accepts (the ranges
 // perturbScene enforces): albedo in [0, 1], roughness in [0.001, 1], ior > 1, emission and intensity

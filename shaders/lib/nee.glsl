@@ -35,6 +35,7 @@ struct NeeVertex {
   // The first vertex of this path that can start an ellipsoidal connection (path.glsl's
   // pathFirstEllipsoidVertex): which estimator covers which path lengths, below.
   uint firstEllipsoidVertex;
+  uint depth;  // this vertex's index on the path (0: the sensor); neeAtVertex sets it
 };
 
 #ifdef VKTG_DERIVATIVE
@@ -153,16 +154,18 @@ void standardNee(uint path, NeeVertex v, uint depth, vec3 u) {
     float pEll = areaPdfEllipsoidal(v.previousPosition, v.previousLen, ls.position, len, v.triangle, v.position);
     value *= powerHeuristic(pBsdf, pEll);
   }
-  uint slot = queueShadowRay(path, v.position, ls.position, vec3(0.0), 1u, value, len, 0xffffffffu);
+  uint slot = queueShadowRay(path, v.depth, kConnectionStandard, v.position, ls.position, vec3(0.0), 1u, value, len,
+                             0xffffffffu);
 #ifdef VKTG_DERIVATIVE
   standardNeeDerivatives(slot, v, ls, value);
 #endif
 }
 
 // One ellipsoidal connection of total length s (1/p(s) = invPdfS), scaled by `share` (1/2 for
-// each member of an antithetic pair); `jump` tags path-length-boundary connections.
+// each member of an antithetic pair), into connection slot `kind`; `jump` tags
+// path-length-boundary connections.
 void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float share, LightSample ls, vec4 uEllipsoid,
-                           uint jump);
+                           uint jump, uint kind);
 
 void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllipsoid) {
   float s;
@@ -174,11 +177,12 @@ void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllip
     // the symmetric gate gives both the same density, and W'(s) + W'(2 mu - s) = 0 cancels the
     // large derivative terms of a near-delta gate between the pair.
     float mirror = 2.0 * frame.gate.x - s;
-    if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 0.5, ls, uEllipsoid, 0xffffffffu);
-    if (invPdfS > 0.0) ellipsoidalConnection(path, v, mirror, invPdfS, 0.5, ls, uEllipsoid, 0xffffffffu);
+    if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 0.5, ls, uEllipsoid, 0xffffffffu, kConnectionEllipsoidal);
+    if (invPdfS > 0.0)
+      ellipsoidalConnection(path, v, mirror, invPdfS, 0.5, ls, uEllipsoid, 0xffffffffu, kConnectionEllipsoidal + 1u);
     return;
   }
-  if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 1.0, ls, uEllipsoid, 0xffffffffu);
+  if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 1.0, ls, uEllipsoid, 0xffffffffu, kConnectionEllipsoidal);
 }
 
 // Path-length boundary (THEORY.md §3): paths placed exactly on L = s_j by ellipsoidal
@@ -191,11 +195,11 @@ void pathLengthBoundaryConnection(uint path, NeeVertex v, float uJump, vec3 uLig
   float weight;
   uint n = gateBoundaryJumps(v.len + distance(v.position, ls.position), uJump, first, weight);
   for (uint j = first; j < first + n; ++j)
-    ellipsoidalConnection(path, v, gateJumpLocation(j), weight, 1.0, ls, uEllipsoid, j);
+    ellipsoidalConnection(path, v, gateJumpLocation(j), weight, 1.0, ls, uEllipsoid, j, kConnectionEllipsoidal + j - first);
 }
 
 void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float share, LightSample ls, vec4 uEllipsoid,
-                           uint jump) {
+                           uint jump, uint kind) {
   float sPrime = s - v.len;
   // The shell must be longer than the straight line x -> y; otherwise no path of length s exists.
   if (!(sPrime > distance(v.position, ls.position))) return;
@@ -229,7 +233,7 @@ void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float
     float pEll = 1.0 / (invPdfS * es.weight);
     value *= powerHeuristic(pEll, pBsdf);
   }
-  uint slot = queueShadowRay(path, v.position, xk.position, ls.position, 2u, value, s, jump);
+  uint slot = queueShadowRay(path, v.depth, kind, v.position, xk.position, ls.position, 2u, value, s, jump);
 #ifdef VKTG_DERIVATIVE
   ellipsoidalNeeDerivatives(slot, v, ls, es, xk.shape, value);
 #endif
@@ -253,6 +257,7 @@ bool emitterHitCounts(uint depth, uint e) { return kSpecNeeModeValue == kNeeStan
 
 void neeAtVertex(uint path, NeeVertex v, uint depth, uint pixel, uint sampleIndex) {
   uint seed = frame.image.w;
+  v.depth = depth;
   if (kSpecTermValue == kTermPathLength) {
     // Every path an ellipsoidal connection can make, placed on a jump instead of sampled from W.
     if (depth >= v.firstEllipsoidVertex && depth + 2u <= frame.gateInfo.w) {

@@ -1,5 +1,6 @@
 // Helpers on path state shared by the passes: compensated path length, contributions into the
-// per-path accumulator (one slot per gate layer), shadow-ray queueing, vertex reconstruction.
+// per-path accumulator (one slot per gate layer; only the invocation handling the path writes it,
+// so plain adds in a fixed order), shadow-ray queueing, vertex reconstruction.
 #ifndef VKTG_PATH_GLSL
 #define VKTG_PATH_GLSL
 #include "lib/gate.glsl"
@@ -28,21 +29,30 @@ void addContribution(uint path, float value, float len) {
   uint layers = frame.gateInfo.y, channels = frame.pathInfo.z;
   for (uint k = first; k < first + count; ++k) {
     float w = gateWeight(len, k);
-    if (w != 0.0) atomicAdd(pathAccum[(path * layers + k) * channels], w * value);
+    if (w != 0.0) pathAccum[(path * layers + k) * channels] += w * value;
   }
 }
 
-// Queues a connection; returns its slot (~0 when the value is zero and nothing was queued).
+// Queues a connection from the path's vertex `depth` (kNoTape: the camera) into its fixed slot
+// (kConnection* `kind`, shared.h); returns the slot (~0 when the value is zero and nothing was
+// queued). The first connection of a path in a bounce puts the path on the shadow queue.
 // `jump`: the gate jump a path-length-boundary connection sits on (~0 otherwise).
-uint queueShadowRay(uint path, vec3 p0, vec3 p1, vec3 p2, uint segments, float value, float len, uint jump) {
+uint queueShadowRay(uint path, uint depth, uint kind, vec3 p0, vec3 p1, vec3 p2, uint segments, float value, float len,
+                    uint jump) {
   if (value == 0.0) return 0xffffffffu;
-  uint slot = atomicAdd(counters[kCounterShadow], 1u);
+  uint local = ((depth == kNoTape ? 0u : depth) & 1u) * kConnectionsPerVertex + kind;
+  uint slot = path * kShadowRaysPerPath + local;
   ShadowRay r;
   r.p0Value = vec4(p0, value);
   r.p1Length = vec4(p1, len);
   r.p2 = vec4(p2, 0.0);
-  r.info = uvec4(path, segments, jump, 0u);
+  r.info = uvec4(path, segments, jump, depth);
   shadowRays[slot] = r;
+  uint batch = frame.pathInfo.w;
+  if (atomicOr(rayQueues[3u * batch + path], 1u << local) == 0u) {
+    uint queued = atomicAdd(counters[kCounterShadow], 1u);
+    rayQueues[2u * batch + queued] = path;
+  }
   return slot;
 }
 

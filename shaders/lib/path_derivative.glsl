@@ -127,7 +127,7 @@ void addContributionDerivative(uint path, uint lane, float value, float dValue, 
   for (uint k = first; k < first + count; ++k) {
     Dual w = gateWeightDual(dual(len, dLen), k, centreRate);
     float d = w.v * dValue + w.d * value;
-    if (d != 0.0) atomicAdd(pathAccum[(path * layers + k) * channels + 1u + lane], d);
+    if (d != 0.0) pathAccum[(path * layers + k) * channels + 1u + lane] += d;
   }
 }
 #endif

@@ -7,14 +7,17 @@ namespace vktg::gpu {
 static_assert(sizeof(GpuTriangle) == 48);
 static_assert(sizeof(GpuBvhNode) == 64);
 static_assert(sizeof(GpuShape) == 16);
+static_assert(sizeof(GpuParameterOp) == 32);
 static_assert(sizeof(GpuMaterial) == 16);
 static_assert(sizeof(GpuLight) == 32 && offsetof(GpuLight, type) == 16);
-static_assert(sizeof(FrameUniforms) == 13 * 16 && offsetof(FrameUniforms, edgeInfo) == 12 * 16);
+static_assert(sizeof(FrameUniforms) == 16 * 16 && offsetof(FrameUniforms, edgeInfo) == 12 * 16 &&
+              offsetof(FrameUniforms, adjointScale) == 15 * 16);
 static_assert(sizeof(GpuEdge) == 64);
 static_assert(sizeof(PathState) == 96 && offsetof(PathState, previous) == 80);
 static_assert(sizeof(GpuLane) == 32 && sizeof(PathDerivative) == 32);
 static_assert(sizeof(HitRecord) == 16);
 static_assert(sizeof(ShadowRay) == 64 && offsetof(ShadowRay, info) == 48);
+static_assert(sizeof(ShadowAdjoint) == 32 && sizeof(TapeVertex) == 32 && sizeof(EdgeRecord) == 64);
 }  // namespace vktg::gpu
 namespace vktg::gpu {
 static_assert(sizeof(PassPush) == 16);

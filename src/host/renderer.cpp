@@ -241,11 +241,13 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &ds, 0, nullptr);
     vkCmdFillBuffer(cmd, wave.counters.handle(), 0, gpu::kCounterExtensionRays * sizeof(uint32_t), 0);
     vkCmdFillBuffer(cmd, wave.pathAccum.handle(), 0, VK_WHOLE_SIZE, 0);
+    // Shadow-slot masks: trace_shadow_rays clears what it visits; a fresh batch starts clear.
+    vkCmdFillBuffer(cmd, wave.rayQueues.handle(), 3ull * batchSize * sizeof(uint32_t), uint64_t(batchSize) * sizeof(uint32_t), 0);
     computeBarrier(cmd);
     pushArgs(cmd, layout, splat ? uint32_t(done) : firstLinear, firstSample, 0, active);
     dispatch(generateName.c_str(), generate, groupsFor(active));
     auto traceShadowRays = [&] {
-      pushArgs(cmd, layout, gpu::kCounterShadow, gpu::kArgsShadow, gpu::kCounterShadowRays, 0);
+      pushArgs(cmd, layout, gpu::kCounterShadow, gpu::kArgsShadow, gpu::kCounterCount, 0);
       dispatch("set_dispatch_args", setArgs, 1);
       dispatchIndirect(shadowName.c_str(), shadow, gpu::kArgsShadow);
       zeroCounter(gpu::kCounterShadow);

@@ -8,7 +8,7 @@
 namespace vktg {
 
 uint64_t wavefrontBytesPerPath(uint32_t layers, uint32_t lanes) {
-  return sizeof(gpu::PathState) + sizeof(gpu::HitRecord) + 2 * sizeof(uint32_t) +
+  return sizeof(gpu::PathState) + sizeof(gpu::HitRecord) + 4 * sizeof(uint32_t) +
          gpu::kShadowRaysPerPath * sizeof(gpu::ShadowRay) + uint64_t(layers) * (1 + lanes) * sizeof(float) +
          uint64_t(lanes) * (sizeof(gpu::PathDerivative) + gpu::kShadowRaysPerPath * 2 * sizeof(float));
 }
@@ -34,7 +34,7 @@ uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint32_t lanes, uin
 WavefrontBuffers::WavefrontBuffers(const VulkanContext& context, uint32_t batchSize, uint32_t layers, uint32_t lanes)
     : paths(context, uint64_t(batchSize) * sizeof(gpu::PathState), MemoryKind::Device, "wavefront.paths"),
       hits(context, uint64_t(batchSize) * sizeof(gpu::HitRecord), MemoryKind::Device, "wavefront.hits"),
-      rayQueues(context, 2ull * batchSize * sizeof(uint32_t), MemoryKind::Device, "wavefront.rayQueues"),
+      rayQueues(context, 4ull * batchSize * sizeof(uint32_t), MemoryKind::Device, "wavefront.rayQueues"),
       shadowQueue(context, uint64_t(gpu::kShadowRaysPerPath) * batchSize * sizeof(gpu::ShadowRay), MemoryKind::Device,
                   "wavefront.shadowQueue"),
       counters(context, gpu::kCounterCount * sizeof(uint32_t), MemoryKind::Device, "wavefront.counters"),

@@ -231,33 +231,44 @@ uint32_t findParameter(const Scene& scene, const std::string& name, const std::s
   fail(scene.source.string(), field, "unknown parameter \"" + name + "\"" + suggestions(scene, name));
 }
 
-Scene perturbScene(const Scene& scene, const std::string& name, double delta) {
-  const std::string file = scene.source.string();
-  const Parameter& p = scene.parameters[findParameter(scene, name, "parameter")];
-  if (!std::isfinite(delta)) fail(file, name, "perturbation " + formatValue(delta) + " is not finite");
-  const std::string problem = parameterProblem(scene, p);
-  if (!problem.empty()) fail(file, name, problem);
+glm::dvec3 moveVertex(const Parameter& p, const glm::dvec3& position, double theta) {
+  if (p.kind == ParameterKind::Rotate) return rotateAbout(position, glm::dvec3(p.axis), glm::dvec3(p.center), theta);
+  return position + glm::dvec3(p.axis) * theta;
+}
 
-  Scene out = scene;
-  const glm::dvec3 axis(p.axis);
+glm::dvec3 turnVector(const Parameter& p, const glm::dvec3& vector, double theta) {
+  if (p.kind != ParameterKind::Rotate) return vector;
+  return rotateAbout(vector, glm::dvec3(p.axis), glm::dvec3(0.0), theta);
+}
+
+namespace {
+
+// Moves `out` by parameter `p` (index `index` of out.parameters) at θ = delta, failing when a
+// scalar leaves the range the scene format accepts.
+void applyParameter(Scene& out, const Parameter& p, double delta) {
+  const std::string file = out.source.string();
+  const std::string& name = p.name;
+  if (!std::isfinite(delta)) fail(file, name, "perturbation " + formatValue(delta) + " is not finite");
+  const std::string problem = parameterProblem(out, p);
+  if (!problem.empty()) fail(file, name, problem);
+  if (delta == 0) return;
+
   auto shapeOf = [&]() -> Shape& { return out.shapes[size_t(indexByName(out.shapes, p.target))]; };
   auto lightOf = [&]() -> PointLight& { return out.pointLights[size_t(indexByName(out.pointLights, p.target))]; };
   auto materialOf = [&]() -> Material& { return out.materials[size_t(indexByName(out.materials, p.target))]; };
   switch (p.kind) {
     case ParameterKind::Translate:
-      for (glm::vec3& v : shapeOf().positions) v = glm::vec3(glm::dvec3(v) + axis * delta);
-      break;
     case ParameterKind::Rotate:
-      for (glm::vec3& v : shapeOf().positions) v = glm::vec3(rotateAbout(glm::dvec3(v), axis, glm::dvec3(p.center), delta));
+      for (glm::vec3& v : shapeOf().positions) v = glm::vec3(moveVertex(p, glm::dvec3(v), delta));
       break;
     case ParameterKind::Displace: {
       std::vector<glm::vec3>& positions = shapeOf().positions;
-      for (uint32_t i : p.vertices) positions[i] = glm::vec3(glm::dvec3(positions[i]) + axis * delta);
+      for (uint32_t i : p.vertices) positions[i] = glm::vec3(moveVertex(p, glm::dvec3(positions[i]), delta));
       break;
     }
     case ParameterKind::LightPosition: {
       PointLight& light = lightOf();
-      light.position = glm::vec3(glm::dvec3(light.position) + axis * delta);
+      light.position = glm::vec3(glm::dvec3(light.position) + glm::dvec3(p.axis) * delta);
       break;
     }
     case ParameterKind::Emission: {
@@ -305,7 +316,23 @@ Scene perturbScene(const Scene& scene, const std::string& name, double delta) {
       break;
     }
   }
+}
+
+}  // namespace
+
+Scene applyParameters(const Scene& scene, const std::vector<std::pair<uint32_t, double>>& values) {
+  std::vector<std::pair<uint32_t, double>> ordered = values;
+  std::stable_sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  Scene out = scene;
+  for (const auto& [index, value] : ordered) {
+    if (index >= scene.parameters.size()) throw Error("internal: parameter index out of range");
+    applyParameter(out, scene.parameters[index], value);
+  }
   return out;
+}
+
+Scene perturbScene(const Scene& scene, const std::string& name, double delta) {
+  return applyParameters(scene, {{findParameter(scene, name, "parameter"), delta}});
 }
 
 ParameterRange parameterRange(const Scene& scene, const Parameter& p) {

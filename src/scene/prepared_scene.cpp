@@ -38,7 +38,6 @@ PreparedScene prepareScene(const Scene& scene) {
 
   out.triangles.resize(soup.size());
   out.triangleVerts.resize(soup.size());
-  std::vector<uint32_t> firstOfShape(scene.shapes.size(), UINT32_MAX), countOfShape(scene.shapes.size(), 0);
   for (uint32_t i = 0; i < soup.size(); ++i) {
     uint32_t src = out.bvh.order[i];
     const BvhTriangle& t = soup[src];
@@ -47,12 +46,6 @@ PreparedScene prepareScene(const Scene& scene) {
     out.triangles[i].p1 = glm::vec4(t.p1, std::bit_cast<float>(src));
     out.triangles[i].p2 = glm::vec4(t.p2, triangleArea(t.p0, t.p1, t.p2));
     out.triangleVerts[i] = verts[src];
-    firstOfShape[shape] = std::min(firstOfShape[shape], i);
-    countOfShape[shape]++;
-  }
-  for (uint32_t s = 0; s < out.shapes.size(); ++s) {
-    out.shapes[s].firstTriangle = firstOfShape[s] == UINT32_MAX ? 0 : firstOfShape[s];
-    out.shapes[s].triangleCount = countOfShape[s];
   }
 
   for (const Material& m : scene.materials) {

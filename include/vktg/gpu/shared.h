@@ -57,7 +57,7 @@ VKTG_CONST(uint, kNoPixel, 0xffffffffu);  // an edge sample whose path reaches n
 // Indices into the Counters buffer (uint array).
 VKTG_CONST(uint, kCounterRays0, 0);          // ray queue 0 size
 VKTG_CONST(uint, kCounterRays1, 1);          // ray queue 1 size
-VKTG_CONST(uint, kCounterShadow, 2);         // shadow queue size
+VKTG_CONST(uint, kCounterShadow, 2);         // paths with shadow rays queued
 VKTG_CONST(uint, kCounterExtensionRays, 3);  // statistics from here on
 VKTG_CONST(uint, kCounterShadowRays, 4);
 VKTG_CONST(uint, kCounterEndedByGate, 5);    // paths ended because their length passed the gate
@@ -68,6 +68,7 @@ VKTG_CONST(uint, kCounterEllipsoidQueries, 9);
 VKTG_CONST(uint, kCounterEllipsoidEmpty, 10);  // queries whose shell met no surface
 VKTG_CONST(uint, kCounterEdgeSilhouettes, 11);  // edge samples whose direction made the edge a silhouette
 VKTG_CONST(uint, kCounterEdgeConnected, 12);    // ... whose boundary segment also reached the camera
+VKTG_CONST(uint, kCounterGradientOverflow, 13);  // adjoint scatters beyond the int64 range (the scale was too fine)
 VKTG_CONST(uint, kCounterCount, 16);
 
 // Indices of VkDispatchIndirectCommand records in the dispatch-args buffer.
@@ -76,6 +77,9 @@ VKTG_CONST(uint, kArgsShadow, 1);
 VKTG_CONST(uint, kArgsCount, 2);
 
 // ---- Descriptor bindings (set 0, one layout shared by every pass) ----------------------------
+// Devices may allow as few as 32 storage buffers per stage (lavapipe), and the layout uses 31:
+// bindings 25-28 therefore serve the derivative lanes of forward-mode passes and, under other
+// names, the adjoint passes and the edge passes, which never run together with them.
 VKTG_CONST(uint, kBindingFrame, 0);          // uniform FrameUniforms
 VKTG_CONST(uint, kBindingTriangles, 1);      // GpuTriangle[], kMaxBufferChunks bindings: 1..4
 VKTG_CONST(uint, kBindingBvhNodes, 5);       // GpuBvhNode[], chunks 5..8
@@ -86,8 +90,10 @@ VKTG_CONST(uint, kBindingMaterials, 12);     // GpuMaterial[]
 VKTG_CONST(uint, kBindingLights, 13);        // GpuLight[] with CDF
 VKTG_CONST(uint, kBindingPaths, 14);         // PathState[batch]
 VKTG_CONST(uint, kBindingHits, 15);          // HitRecord[batch]
-VKTG_CONST(uint, kBindingRayQueues, 16);     // uint[2 * batch]: two path-index queues by depth parity
-VKTG_CONST(uint, kBindingShadowQueue, 17);   // ShadowRay[kShadowRaysPerPath * batch]
+// uint[4 * batch]: two path-index queues by depth parity, then the queue of paths with shadow rays
+// to trace, then per path the mask of its filled shadow-ray slots.
+VKTG_CONST(uint, kBindingRayQueues, 16);
+VKTG_CONST(uint, kBindingShadowQueue, 17);   // ShadowRay[path * kShadowRaysPerPath + slot]
 VKTG_CONST(uint, kBindingCounters, 18);      // uint[kCounterCount]
 VKTG_CONST(uint, kBindingDispatchArgs, 19);  // uint[3 * kArgsCount]
 VKTG_CONST(uint, kBindingPathAccum, 20);     // float[(batch * layers + layer) * channels + channel], per-path sums
@@ -102,15 +108,40 @@ VKTG_CONST(uint, kBindingVertexVelocity, 25);  // vec4[lane * vertices + vertex]
 VKTG_CONST(uint, kBindingLanes, 26);           // GpuLane[lanes]: what each derivative lane differentiates
 VKTG_CONST(uint, kBindingPathDerivs, 27);      // PathDerivative[path * lanes + lane]
 VKTG_CONST(uint, kBindingShadowDerivs, 28);    // vec2[shadow ray * lanes + lane]: d value, d length
+// Adjoint passes (THEORY.md §7: the gradient of a loss, no lanes):
+VKTG_CONST(uint, kBindingAdjointImage, 25);    // float[layer * pixels + pixel]: d loss / d image
+VKTG_CONST(uint, kBindingGradient, 26);        // int64[]: fixed-point gradient accumulators (FrameUniforms.gradientLayout)
+VKTG_CONST(uint, kBindingTape, 27);            // TapeVertex[vertex * batch + path]
+VKTG_CONST(uint, kBindingShadowAdjoint, 28);   // ShadowAdjoint[shadow slot]: what a connection's vertices are
+// Edge passes (forward and adjoint): the boundary geometry of every path slot.
+VKTG_CONST(uint, kBindingEdgeRecords, 27);     // EdgeRecord[slot]
 VKTG_CONST(uint, kBindingTestIn, 29);        // test kernels only
 VKTG_CONST(uint, kBindingTestOut, 30);       // test kernels only
 VKTG_CONST(uint, kBindingEdges, 31);        // GpuEdge[]: silhouette-capable edges with a CDF by length
 VKTG_CONST(uint, kBindingCount, 32);
 
-// At most this many shadow rays a path can queue per bounce: standard + an antithetic pair of
-// ellipsoidal connections, plus at a point sensor the pair its first hit queues in the same
-// bounce as generate_camera_rays' connections.
-VKTG_CONST(uint, kShadowRaysPerPath, 5);
+// Scene-update passes (move_vertices, update_triangles, refit_bvh, update_edges) use their own layout:
+// bindings 0-13 as above (frame and scene), then these.
+VKTG_CONST(uint, kUpdateBindingBasePositions, 14);  // vec4[vertex]: positions at θ = 0
+VKTG_CONST(uint, kUpdateBindingVertexOps, 15);      // uvec2[vertex]: (first, count) in the op list
+VKTG_CONST(uint, kUpdateBindingOpList, 16);         // uint[]: θ indices, per vertex in declaration order
+VKTG_CONST(uint, kUpdateBindingParameterOps, 17);   // GpuParameterOp[θ index]
+VKTG_CONST(uint, kUpdateBindingTheta, 18);          // float[θ index]
+VKTG_CONST(uint, kUpdateBindingRefitOrder, 19);     // uint[]: internal BVH nodes, deepest level first
+VKTG_CONST(uint, kUpdateBindingEdges, 20);          // GpuEdge[]
+VKTG_CONST(uint, kUpdateBindingEdgeFaces, 21);      // uvec4[edge]: x, y the vertex opposite the edge in face 0, 1 (~0: none)
+VKTG_CONST(uint, kUpdateBindingCount, 22);
+
+// Shadow-ray slots of a path per bounce: per vertex a standard connection and an (antithetic) pair of
+// ellipsoidal ones, for two vertices, since at a point sensor generate_camera_rays (the sensor) and
+// the first hit queue theirs before the same trace. A slot's place is fixed, (vertex depth & 1) *
+// kConnectionsPerVertex + kind, and trace_shadow_rays visits a path's slots in order, so a path's
+// contributions add up in the same order on every run.
+VKTG_CONST(uint, kConnectionsPerVertex, 3);
+VKTG_CONST(uint, kConnectionStandard, 0);
+VKTG_CONST(uint, kConnectionEllipsoidal, 1);  // and 2: the antithetic mirror or the second jump
+VKTG_CONST(uint, kShadowRaysPerPath, 6);
+VKTG_CONST(uint, kNoTape, 0xffffffffu);  // ShadowRay.info.w of a connection from the camera (no tape vertex)
 
 // ---- Specialisation constants (ids) and push constants of the passes ---------------------------
 VKTG_CONST(uint, kSpecMaterialMask, 0);   // bit per kMaterial* present in the scene
@@ -121,7 +152,15 @@ VKTG_CONST(uint, kSpecLightMask, 4);      // bit kLightAreaTriangle / kLightPoin
 VKTG_CONST(uint, kSpecLanes, 5);          // derivative lanes K per path (derivative variants only)
 VKTG_CONST(uint, kSpecTerm, 6);           // kTermInterior / kTermPathLength (derivative variants only)
 VKTG_CONST(uint, kSpecAntithetic, 7);     // 1: ellipsoidal connections in antithetic pairs s, 2 mu - s
-VKTG_CONST(uint, kSpecCount, 8);
+VKTG_CONST(uint, kSpecAdjointTargets, 8); // adjoint variants: kAdjoint* bits, what the gradient is taken of
+VKTG_CONST(uint, kSpecCount, 9);
+
+// What an adjoint render differentiates (kSpecAdjointTargets): only these get gradients computed.
+VKTG_CONST(uint, kAdjointVertices, 1);    // positions of vertices of shapes with kShapeMoves
+VKTG_CONST(uint, kAdjointMaterials, 2);   // albedo, roughness, ior
+VKTG_CONST(uint, kAdjointEmission, 4);    // emitted radiance of shapes
+VKTG_CONST(uint, kAdjointLights, 8);      // point-light positions and intensities
+VKTG_CONST(uint, kAdjointGate, 16);       // the gate's centre
 
 VKTG_CONST(uint, kTermInterior, 0);       // d/dθ [W(L) f] along sampled paths
 VKTG_CONST(uint, kTermPathLength, 1);     // paths on L = s at the gate's jumps, weighted ΔW(s) dL/dθ
@@ -157,11 +196,19 @@ struct GpuBvhNode {
   vec4 rightMaxFirst;       // xyz: right child box max, w: leaf first triangle (uint bits)
 };
 
+VKTG_CONST(uint, kShapeMoves, 1);  // GpuShape.flags: some optimised parameter moves its vertices
+
 struct GpuShape {
   uint material;
   float emission;    // emitted radiance of the front face (W sr^-1 m^-2); 0 = not an emitter
-  uint firstTriangle;
-  uint triangleCount;
+  uint flags;        // kShape*
+  uint unused;
+};
+
+// A Translate, Rotate or Displace parameter as move_vertices applies it (ParameterModel).
+struct GpuParameterOp {
+  vec4 axisKind;     // xyz: axis (Displace: the displacement per unit θ); w: ParameterKind (uint bits)
+  vec4 center;       // xyz: a point on a rotation's axis
 };
 
 struct GpuMaterial {
@@ -206,6 +253,12 @@ struct FrameUniforms {
   vec4 sceneInfo;         // x: ray epsilon (scene-scale relative), y: scene diagonal, z: total light power, w: vertex count (uint bits)
   uvec4 chunkShift;       // log2 of elements per chunk: x triangles, y BVH nodes, z film floats, w unused
   uvec4 edgeInfo;         // x: silhouette-capable edges (kBindingEdges), y: edge samples of the render, z, w unused
+  // Adjoint passes: where each scene quantity's accumulators start in kBindingGradient (int64 slots):
+  // slot 0 the gate centre, then x: materials (albedo, roughness, ior each), y: shape emission,
+  // z: point lights (intensity, position xyz each), w: vertices (xyz each).
+  uvec4 gradientLayout;
+  uvec4 adjointInfo;      // x: index of the first point light in the lights array, y-w unused
+  vec4 adjointScale;      // x: accumulators hold round(value * x) (a power of two), y-w unused
 };
 
 struct GpuLane {
@@ -240,7 +293,41 @@ struct ShadowRay {
   vec4 p0Value;      // xyz: first point, w: contribution if visible
   vec4 p1Length;     // xyz: second point, w: total optical path length of the path
   vec4 p2;           // xyz: third point (two-segment rays only)
-  uvec4 info;        // x: path index, y: segment count (1 or 2), z: gate jump (path-length boundary), w: unused
+  uvec4 info;        // x: path index, y: segment count (1 or 2; 0: empty slot), z: gate jump (path-length
+                     // boundary), w: depth of the vertex the connection starts from (kNoTape: the camera)
+};
+
+// Adjoint passes: the material points of a connection beyond its first vertex, so its gradient can
+// be scattered onto the vertices they lie on.
+struct ShadowAdjoint {
+  uvec4 middle;      // x: triangle of the ellipsoidal vertex, or of the emitter point a one-segment camera
+                     // connection reaches (~0: none); y, z: barycentrics (float bits); w: 1 if it is a first
+                     // hit kept on its camera ray
+  uvec4 light;       // x: lights[] index of the light sample (~0: none); y, z: barycentrics of an area-light
+                     // point (float bits); w: unused
+};
+
+// Adjoint passes: one vertex of a path, written as the wavefront reaches it, read back by
+// backprop_paths, which walks each path backwards once every contribution is known (the tape).
+struct TapeVertex {
+  vec4 hit;          // x: triangle (uint bits; ~0 at the camera), y, z: barycentrics, w: IOR of the medium
+                     // the segment arriving here ran in
+  vec4 adjoint;      // x: sum over contributions closed at this vertex (emission, its connections) of
+                     // d loss/d I * W(L) * value; y: the same with W'(L) (the path-length adjoint);
+                     // z (entry 0 only): surface vertices on the tape (uint bits); w: unused
+};
+
+// Edge passes: the boundary segment behind a path slot. The slot's derivative is its light-side value
+// times a factor linear in velocities:
+//   factor = sY (v_y . n_p) + sA (v_a . n_p) + sB (v_b . n_p),
+// v_y the edge's velocity at y, v_a and v_b those of the segment's ends (lib/edge.glsl).
+struct EdgeRecord {
+  vec4 normalScale;  // xyz: n_p; w: sY (0: the slot holds no boundary sample)
+  vec4 ends;         // x: position of y along the edge, y: sA, z: sB, w: edge index (uint bits)
+  uvec4 endA;        // x: triangle of x_a (~0: the camera or sensor, which do not move), y, z: barycentrics
+                     // (float bits), w: 1 if x_a is a first hit kept on its camera ray
+  uvec4 endB;        // x: triangle of x_b (~0: none), y, z: barycentrics (float bits), w: lights[] index of a
+                     // point light at x_b (~0: none)
 };
 
 #ifdef __cplusplus

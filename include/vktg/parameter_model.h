@@ -1,0 +1,77 @@
+// The parameters an optimisation moves, as one vector θ (THEORY.md §7): the scene at any θ, the
+// tables that let the device move vertices itself, which scene quantities the parameters touch,
+// and the chain rule from gradients with respect to those quantities (per vertex, per material,
+// emitter, light and the gate) to dℓ/dθ. Gradients cost O(vertices + parameters), never
+// O(vertices × parameters): each vertex lists the few parameters that move it.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "vktg/gpu/shared.h"
+#include "vktg/scene.h"
+
+namespace vktg {
+
+// Gradients of a scalar (a loss) with respect to the scene quantities parameters can touch.
+struct SceneGradient {
+  std::vector<glm::dvec3> vertices;   // per vertex, prepareScene order (shapes concatenated)
+  std::vector<glm::dvec3> materials;  // per material: (albedo, roughness, ior)
+  std::vector<double> emission;       // per shape
+  std::vector<double> intensity;      // per point light
+  std::vector<glm::dvec3> lightPosition;  // per point light
+  double gateCenter = 0;              // a shift of the whole gate towards longer paths
+
+  void resize(const Scene& scene);    // zero-filled, sized for `scene`
+};
+
+// Device form of the vertex motion: vertex v applies ops opList[first .. first + count) of
+// vertexOps[v] = (first, count) in order; op k is the θ index of a Translate, Rotate or Displace
+// parameter, described by parameterOps[k] (unused for the other kinds).
+struct VertexOpTables {
+  std::vector<glm::uvec2> vertexOps;
+  std::vector<uint32_t> opList;
+  std::vector<gpu::GpuParameterOp> parameterOps;  // one per θ entry
+};
+
+class ParameterModel {
+ public:
+  // `selected`: indices into scene.parameters; their order is the order of θ.
+  ParameterModel(const Scene& scene, std::vector<uint32_t> selected);
+
+  size_t size() const { return m_selected.size(); }
+  const std::vector<uint32_t>& selected() const { return m_selected; }
+  const Parameter& parameter(size_t k) const { return m_scene.parameters[m_selected[k]]; }
+
+  // The scene with the selected parameters at θ (applyParameters).
+  Scene sceneAt(std::span<const double> theta) const;
+  // The vertices of shape `shape` at θ, in double precision (the same motion as sceneAt).
+  std::vector<glm::dvec3> shapePositions(std::span<const double> theta, uint32_t shape) const;
+
+  // What the selected parameters touch.
+  bool movesVertices() const { return !m_opList.empty(); }
+  const std::vector<bool>& movingVertices() const { return m_movingVertex; }  // per vertex
+  bool movesPointLights() const;
+  bool touchesMaterials() const;
+  bool touchesEmission() const;
+  bool touchesIntensity() const;
+  bool touchesGate() const;
+
+  VertexOpTables deviceTables() const;
+
+  // dℓ/dθ at θ from the gradient with respect to scene quantities at θ.
+  std::vector<double> chainRule(std::span<const double> theta, const SceneGradient& gradient) const;
+
+ private:
+  Scene m_scene;
+  std::vector<uint32_t> m_selected;
+  std::vector<uint32_t> m_firstVertex;        // per shape: its first vertex in the concatenation
+  std::vector<glm::uvec2> m_vertexOps;        // per vertex: (first, count) in m_opList
+  std::vector<uint32_t> m_opList;             // θ indices, per vertex in declaration order
+  std::vector<bool> m_movingVertex;
+};
+
+}  // namespace vktg
