@@ -35,6 +35,23 @@ struct BvhBuildOptions {
 
 Bvh buildBvh(std::span<const BvhTriangle> triangles, const BvhBuildOptions& options = {});
 
+// Internal nodes by depth, deepest level first: a bottom-up refit can process
+// nodes[levelStart[l] .. levelStart[l + 1]) in parallel once the levels before it are done.
+struct BvhRefitOrder {
+  std::vector<uint32_t> nodes;
+  std::vector<uint32_t> levelStart;  // levels + 1 entries
+};
+BvhRefitOrder bvhRefitOrder(const Bvh& bvh);
+
+// Recomputes every internal node's child boxes for moved triangles (`triangles` in leaf order), as
+// shaders/refit_bvh.comp does: the topology stays, the traversal stays exact.
+void refitBvh(Bvh& bvh, std::span<const BvhTriangle> triangles);
+
+// Surface-area-heuristic cost of the tree: expected node visits (times `traversalCost`) plus
+// triangle tests of a random ray through the root box. A refit tree's cost over the cost it had
+// when built measures how far motion has degraded it.
+double bvhSahCost(const Bvh& bvh, float traversalCost = 1.0f);
+
 struct RayHit {
   float t = 0;
   float u = 0, v = 0;       // barycentrics: p = (1-u-v) p0 + u p1 + v p2

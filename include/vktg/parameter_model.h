@@ -43,17 +43,24 @@ class ParameterModel {
   ParameterModel(const Scene& scene, std::vector<uint32_t> selected);
 
   size_t size() const { return m_selected.size(); }
+  const Scene& baseScene() const { return m_scene; }  // θ = 0
+  // Per vertex (prepareScene order) and per shape: whether some selected parameter moves it.
+  std::vector<bool> movingShapes() const;
   const std::vector<uint32_t>& selected() const { return m_selected; }
   const Parameter& parameter(size_t k) const { return m_scene.parameters[m_selected[k]]; }
 
   // The scene with the selected parameters at θ (applyParameters).
   Scene sceneAt(std::span<const double> theta) const;
+  // Sets everything but vertex positions to its value at θ: materials, emission, point lights,
+  // the gate (O(parameters that are not vertex motions), no copy of the geometry).
+  void setScalars(Scene& scene, std::span<const double> theta) const;
   // The vertices of shape `shape` at θ, in double precision (the same motion as sceneAt).
   std::vector<glm::dvec3> shapePositions(std::span<const double> theta, uint32_t shape) const;
 
   // What the selected parameters touch.
   bool movesVertices() const { return !m_opList.empty(); }
   const std::vector<bool>& movingVertices() const { return m_movingVertex; }  // per vertex
+  std::vector<bool> deformingVertices() const;  // per vertex: moved by a displacement (not rigidly with its shape)
   bool movesPointLights() const;
   bool touchesMaterials() const;
   bool touchesEmission() const;
@@ -72,6 +79,7 @@ class ParameterModel {
   std::vector<glm::uvec2> m_vertexOps;        // per vertex: (first, count) in m_opList
   std::vector<uint32_t> m_opList;             // θ indices, per vertex in declaration order
   std::vector<bool> m_movingVertex;
+  std::vector<uint32_t> m_scalarParameters;  // θ indices of parameters that move no vertex, declaration order
 };
 
 }  // namespace vktg

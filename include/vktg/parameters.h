@@ -73,6 +73,9 @@ Scene perturbScene(const Scene& scene, const std::string& name, double delta);
 // commute). Scalars add up when several parameters target one; range errors as for perturbScene.
 Scene applyParameters(const Scene& scene, const std::vector<std::pair<uint32_t, double>>& values);
 
+// Moves `scene` in place by one parameter at θ (what applyParameters does for each entry).
+void applyParameter(Scene& scene, const Parameter& parameter, double theta);
+
 // The motion of one vertex under a Translate, Rotate or Displace parameter at θ (Displace moves only
 // the vertices it lists: the caller decides which), and how the same motion turns a direction.
 glm::dvec3 moveVertex(const Parameter& parameter, const glm::dvec3& position, double theta);

@@ -27,4 +27,8 @@ struct PreparedScene {
 
 PreparedScene prepareScene(const Scene& scene);
 
+// (Re)builds the light table (lights, lightMask, totalLightPower) from the shapes' emission
+// (out.shapes), the triangle areas (out.triangles[i].p2.w) and the scene's point lights.
+void prepareLights(PreparedScene& out, const Scene& scene);
+
 }  // namespace vktg

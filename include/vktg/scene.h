@@ -30,6 +30,7 @@ struct Shape {
   std::vector<glm::uvec3> triangles;  // indices into positions
   uint32_t material = 0;              // index into Scene::materials
   float emission = 0.0f;              // radiance emitted from the front face (winding order)
+  glm::uvec2 grid{0u};                // a heightfield's (nx, nz): vertex j * nx + i at column i, row j; 0 otherwise
 };
 
 struct PointLight {

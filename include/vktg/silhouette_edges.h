@@ -20,6 +20,18 @@ namespace vktg {
 // half; a moving edge is where the term usually is.
 std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const std::vector<bool>& movingVertex = {});
 
+// The same edges with, per edge, the vertex opposite it in each of its first two faces (x, y; ~0 for
+// none), which is what moving the list with its vertices needs. Flat creases with a vertex that
+// `deformingVertex` marks (per vertex; displaced on its own, not with its whole shape) are kept
+// too: deformation can fold them into silhouettes (a heightfield starting flat). Rigid motion
+// never folds a crease.
+struct EdgeList {
+  std::vector<gpu::GpuEdge> edges;
+  std::vector<glm::uvec4> faces;
+};
+EdgeList edgeList(const PreparedScene& prepared, const std::vector<bool>& movingVertex,
+                  const std::vector<bool>& deformingVertex);
+
 // The share of the selection mass silhouetteEdges puts on moving edges alone.
 inline constexpr double kMovingEdgeShare = 0.5;
 

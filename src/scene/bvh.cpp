@@ -396,6 +396,79 @@ std::optional<RayHit> traverse(const Bvh& bvh, std::span<const BvhTriangle> tria
 
 }  // namespace
 
+BvhRefitOrder bvhRefitOrder(const Bvh& bvh) {
+  std::vector<std::vector<uint32_t>> levels;
+  std::vector<std::pair<uint32_t, uint32_t>> frontier{{0u, 0u}};  // (node, depth)
+  for (size_t i = 0; i < frontier.size(); ++i) {
+    auto [node, depth] = frontier[i];
+    const gpu::GpuBvhNode& n = bvh.nodes[node];
+    if (wordOf(n.rightMinCount.w) > 0) continue;
+    if (levels.size() <= depth) levels.resize(depth + 1);
+    levels[depth].push_back(node);
+    frontier.emplace_back(wordOf(n.leftMinLeftIndex.w), depth + 1);
+    frontier.emplace_back(wordOf(n.leftMaxRightIndex.w), depth + 1);
+  }
+  BvhRefitOrder order;
+  for (auto level = levels.rbegin(); level != levels.rend(); ++level) {
+    order.levelStart.push_back(uint32_t(order.nodes.size()));
+    order.nodes.insert(order.nodes.end(), level->begin(), level->end());
+  }
+  order.levelStart.push_back(uint32_t(order.nodes.size()));
+  return order;
+}
+
+namespace {
+
+Box nodeBox(const Bvh& bvh, std::span<const BvhTriangle> triangles, uint32_t node) {
+  const gpu::GpuBvhNode& n = bvh.nodes[node];
+  Box box;
+  uint32_t count = wordOf(n.rightMinCount.w);
+  if (count == 0) {
+    box.grow({glm::vec3(n.leftMinLeftIndex), glm::vec3(n.leftMaxRightIndex)});
+    box.grow({glm::vec3(n.rightMinCount), glm::vec3(n.rightMaxFirst)});
+    return box;
+  }
+  uint32_t first = wordOf(n.rightMaxFirst.w);
+  for (uint32_t i = first; i < first + count; ++i) box.grow(trianglePaddedBox(triangles[i]));
+  return box;
+}
+
+}  // namespace
+
+void refitBvh(Bvh& bvh, std::span<const BvhTriangle> triangles) {
+  const BvhRefitOrder order = bvhRefitOrder(bvh);
+  for (uint32_t node : order.nodes) {
+    gpu::GpuBvhNode& n = bvh.nodes[node];
+    Box left = nodeBox(bvh, triangles, wordOf(n.leftMinLeftIndex.w));
+    Box right = nodeBox(bvh, triangles, wordOf(n.leftMaxRightIndex.w));
+    n.leftMinLeftIndex = glm::vec4(left.lo, n.leftMinLeftIndex.w);
+    n.leftMaxRightIndex = glm::vec4(left.hi, n.leftMaxRightIndex.w);
+    n.rightMinCount = glm::vec4(right.lo, n.rightMinCount.w);
+    n.rightMaxFirst = glm::vec4(right.hi, n.rightMaxFirst.w);
+  }
+}
+
+double bvhSahCost(const Bvh& bvh, float traversalCost) {
+  const gpu::GpuBvhNode& root = bvh.nodes.at(0);
+  if (wordOf(root.rightMinCount.w) > 0) return double(wordOf(root.rightMinCount.w));
+  Box rootBox;
+  rootBox.grow({glm::vec3(root.leftMinLeftIndex), glm::vec3(root.leftMaxRightIndex)});
+  rootBox.grow({glm::vec3(root.rightMinCount), glm::vec3(root.rightMaxFirst)});
+  const double rootArea = std::max(rootBox.area(), 1e-300);
+  double cost = traversalCost;  // the root is always visited
+  for (const gpu::GpuBvhNode& n : bvh.nodes) {
+    if (wordOf(n.rightMinCount.w) > 0) continue;
+    const std::pair<Box, uint32_t> children[2] = {
+        {{glm::vec3(n.leftMinLeftIndex), glm::vec3(n.leftMaxRightIndex)}, wordOf(n.leftMinLeftIndex.w)},
+        {{glm::vec3(n.rightMinCount), glm::vec3(n.rightMaxFirst)}, wordOf(n.leftMaxRightIndex.w)}};
+    for (const auto& [box, child] : children) {
+      uint32_t count = wordOf(bvh.nodes[child].rightMinCount.w);
+      cost += box.area() / rootArea * (count > 0 ? double(count) : double(traversalCost));
+    }
+  }
+  return cost;
+}
+
 Bvh buildBvh(std::span<const BvhTriangle> triangles, const BvhBuildOptions& options) {
   if (options.maxLeafSize == 0) fail("", "bvh.maxLeafSize", "must be at least 1");
   if (options.bins < 2) fail("", "bvh.bins", "must be at least 2");

@@ -74,8 +74,25 @@ ParameterModel::ParameterModel(const Scene& scene, std::vector<uint32_t> selecte
   m_opList.resize(total);
   for (uint32_t k : byDeclaration)
     forEachMovedVertex(k, [&](uint32_t v) { m_opList[m_vertexOps[v].x + m_vertexOps[v].y++] = k; });
+  for (uint32_t k : byDeclaration)
+    if (!vktg::movesVertices(scene.parameters[m_selected[k]].kind)) m_scalarParameters.push_back(k);
   m_movingVertex.assign(vertexCount, false);
   for (uint32_t v = 0; v < vertexCount; ++v) m_movingVertex[v] = m_vertexOps[v].y > 0;
+}
+
+std::vector<bool> ParameterModel::deformingVertices() const {
+  std::vector<bool> out(m_vertexOps.size(), false);
+  for (size_t v = 0; v < m_vertexOps.size(); ++v)
+    for (uint32_t o = m_vertexOps[v].x; o < m_vertexOps[v].x + m_vertexOps[v].y; ++o)
+      if (parameter(m_opList[o]).kind == ParameterKind::Displace) out[v] = true;
+  return out;
+}
+
+std::vector<bool> ParameterModel::movingShapes() const {
+  std::vector<bool> out(m_scene.shapes.size(), false);
+  for (size_t s = 0; s < out.size(); ++s)
+    for (uint32_t v = m_firstVertex[s]; v < m_firstVertex[s + 1] && !out[s]; ++v) out[s] = m_movingVertex[v];
+  return out;
 }
 
 bool ParameterModel::movesPointLights() const {
@@ -116,6 +133,15 @@ Scene ParameterModel::sceneAt(std::span<const double> theta) const {
   values.reserve(size());
   for (size_t k = 0; k < size(); ++k) values.emplace_back(m_selected[k], theta[k]);
   return applyParameters(m_scene, values);
+}
+
+void ParameterModel::setScalars(Scene& scene, std::span<const double> theta) const {
+  if (theta.size() != size()) throw Error("internal: θ has the wrong size");
+  scene.materials = m_scene.materials;
+  scene.pointLights = m_scene.pointLights;
+  scene.gate = m_scene.gate;
+  for (size_t s = 0; s < scene.shapes.size(); ++s) scene.shapes[s].emission = m_scene.shapes[s].emission;
+  for (uint32_t k : m_scalarParameters) applyParameter(scene, parameter(k), theta[k]);
 }
 
 std::vector<glm::dvec3> ParameterModel::shapePositions(std::span<const double> theta, uint32_t shape) const {

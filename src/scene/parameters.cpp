@@ -241,10 +241,6 @@ glm::dvec3 turnVector(const Parameter& p, const glm::dvec3& vector, double theta
   return rotateAbout(vector, glm::dvec3(p.axis), glm::dvec3(0.0), theta);
 }
 
-namespace {
-
-// Moves `out` by parameter `p` (index `index` of out.parameters) at θ = delta, failing when a
-// scalar leaves the range the scene format accepts.
 void applyParameter(Scene& out, const Parameter& p, double delta) {
   const std::string file = out.source.string();
   const std::string& name = p.name;
@@ -317,8 +313,6 @@ void applyParameter(Scene& out, const Parameter& p, double delta) {
     }
   }
 }
-
-}  // namespace
 
 Scene applyParameters(const Scene& scene, const std::vector<std::pair<uint32_t, double>>& values) {
   std::vector<std::pair<uint32_t, double>> ordered = values;

@@ -58,6 +58,14 @@ PreparedScene prepareScene(const Scene& scene) {
   }
   for (const Shape& shape : scene.shapes) out.materialMask |= 1u << uint32_t(scene.materials.at(shape.material).type);
 
+  prepareLights(out, scene);
+  sceneBounds(scene, out.boundsMin, out.boundsMax);
+  return out;
+}
+
+void prepareLights(PreparedScene& out, const Scene& scene) {
+  out.lights.clear();
+  out.lightMask = 0;
   // Light selection proportional to emitted power.
   std::vector<double> power;
   for (uint32_t i = 0; i < out.triangles.size(); ++i) {
@@ -90,8 +98,6 @@ PreparedScene prepareScene(const Scene& scene) {
   }
   out.lights.back().cdf = 1.0f;
   out.totalLightPower = float(total);
-  sceneBounds(scene, out.boundsMin, out.boundsMax);
-  return out;
 }
 
 }  // namespace vktg

@@ -103,6 +103,7 @@ class SceneParser {
     if (root.has("parameters")) {
       const JsonValue parameters = root.field("parameters");
       for (size_t i = 0; i < parameters.array().size(); ++i) parseParameter(parameters.element(i));
+      applyValues();
     }
     return std::move(m_scene);
   }
@@ -305,7 +306,13 @@ class SceneParser {
     shape.triangles = std::move(mesh.triangles);
     shape.material = material;
     shape.emission = emission;
+    if (type == "heightfield") shape.grid = gridOf(o);
     m_scene.shapes.push_back(std::move(shape));
+  }
+
+  static glm::uvec2 gridOf(const JsonObject& heightfield) {
+    const JsonValue res = heightfield.field("resolution");
+    return glm::uvec2(res.element(0).uinteger(2, kMaxHeightfieldResolution), res.element(1).uinteger(2, kMaxHeightfieldResolution));
   }
 
   static TriangleMesh parseHeightfield(const JsonObject& o) {
@@ -382,7 +389,7 @@ class SceneParser {
     };
     const Form& form = *std::find_if(std::begin(kForms), std::end(kForms), [&](const Form& f) { return type == f.type; });
     const std::string targetKey = form.target;
-    std::vector<std::string_view> allowed = {"name", "type"};
+    std::vector<std::string_view> allowed = {"name", "type", "value"};
     if (!targetKey.empty()) allowed.push_back(targetKey);
     if (type == "translate" || type == "rotate" || type == "light_position") allowed.push_back("axis");
     if (type == "rotate") allowed.push_back("center");
@@ -419,13 +426,32 @@ class SceneParser {
     }
     const std::string problem = parameterProblem(m_scene, p);
     if (!problem.empty()) vktg::fail(m_file, o.pathOf(targetKey.empty() ? "type" : targetKey), problem);
+    if (o.has("value")) m_values.push_back({uint32_t(m_scene.parameters.size()), o.field("value").number(), o.pathOf("value")});
     m_scene.parameters.push_back(std::move(p));
+  }
+
+  // Parameters given a `value` (heightfield_heights: `values`) start there: the scene is moved as
+  // applyParameters would move it, in declaration order, and θ = 0 is that scene (how an optimised
+  // scene is written back).
+  void applyValues() {
+    std::vector<std::pair<uint32_t, double>> values;
+    for (const PendingValue& v : m_values) {
+      const Parameter& p = m_scene.parameters[v.parameter];
+      const ParameterRange range = parameterRange(m_scene, p);
+      if (!range.contains(v.value))
+        vktg::fail(m_file, v.path,
+                   "value " + formatNumber(v.value) + " of parameter \"" + p.name +
+                       "\" is outside the range its quantity allows (" + formatNumber(range.low) + " to " +
+                       formatNumber(range.high) + " from the scene as written)");
+      values.emplace_back(v.parameter, v.value);
+    }
+    if (!values.empty()) m_scene = applyParameters(m_scene, values);
   }
 
   // {"type": "heightfield_heights", "shape": S, "name_prefix": P}: one displacement parameter P<k>
   // per vertex k of heightfield S, so that θ_k is added to heights[k] of the file.
   void parseHeightfieldHeights(const JsonValue& value) {
-    const JsonObject o(value, {"type", "shape", "name_prefix"});
+    const JsonObject o(value, {"type", "shape", "name_prefix", "values"});
     const JsonValue shapeField = o.field("shape");
     const std::string shapeName = shapeField.string();
     const Shape* shape = findShape(shapeName);
@@ -436,6 +462,8 @@ class SceneParser {
     const JsonValue where = o.has("name_prefix") ? o.field("name_prefix") : value;
     if (!isValidParameterName(prefix))
       where.fail("invalid name prefix \"" + prefix + "\" (use letters, digits, '_', '-' and '.')");
+    std::vector<double> values;
+    if (o.has("values")) values = o.field("values").numbers(shape->positions.size());
     for (uint32_t k = 0; k < shape->positions.size(); ++k) {
       Parameter p;
       p.name = prefix + std::to_string(k);
@@ -444,9 +472,18 @@ class SceneParser {
       p.axis = up->second;
       p.vertices = {k};
       claimParameterName(where, p.name);
+      if (!values.empty() && values[k] != 0.0)
+        m_values.push_back({uint32_t(m_scene.parameters.size()), values[k], o.pathOf("values") + "[" + std::to_string(k) + "]"});
       m_scene.parameters.push_back(std::move(p));
     }
   }
+
+  struct PendingValue {
+    uint32_t parameter;
+    double value;
+    std::string path;
+  };
+  std::vector<PendingValue> m_values;
 
   void claimParameterName(const JsonValue& where, const std::string& name) {
     if (!isValidParameterName(name))

@@ -23,6 +23,7 @@ struct EdgeFaces {
   uint32_t vertex0 = 0, vertex1 = 0;  // global vertex indices of the ends (first face seen)
   std::vector<glm::vec3> inward;      // per face: unit in-face direction perpendicular to the edge
   std::vector<glm::vec3> normal;      // per face: unit normal
+  std::vector<uint32_t> opposite;     // per face: the vertex not on the edge
 };
 
 // Faces closer to coplanar than this (1 - cos of the dihedral deviation) form a flat crease.
@@ -31,6 +32,11 @@ constexpr float kFlatCrease = 1e-6f;
 }  // namespace
 
 std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const std::vector<bool>& movingVertex) {
+  return edgeList(prepared, movingVertex, {}).edges;
+}
+
+EdgeList edgeList(const PreparedScene& prepared, const std::vector<bool>& movingVertex,
+                  const std::vector<bool>& deformingVertex) {
   std::map<std::pair<PositionKey, PositionKey>, EdgeFaces> edges;
   for (const glm::uvec4& tri : prepared.triangleVerts) {
     uint32_t ids[3] = {tri.x, tri.y, tri.z};
@@ -54,16 +60,23 @@ std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const s
       if (glm::dot(inward, p[k] - p[i]) < 0.0f) inward = -inward;
       faces.inward.push_back(glm::normalize(inward));
       faces.normal.push_back(n);
+      faces.opposite.push_back(ids[k]);
     }
   }
-  std::vector<gpu::GpuEdge> out;
+  EdgeList list;
+  std::vector<gpu::GpuEdge>& out = list.edges;
   std::vector<double> lengths;
   std::vector<bool> moving;
   double total = 0, totalMoving = 0;
+  auto moves = [&](uint32_t v) { return !movingVertex.empty() && movingVertex.at(v); };
+  auto deforms = [&](uint32_t v) { return !deformingVertex.empty() && deformingVertex.at(v); };
   for (const auto& [key, faces] : edges) {
-    if (faces.inward.size() >= 2 && std::abs(glm::dot(faces.normal[0], faces.normal[1])) > 1.0f - kFlatCrease &&
-        glm::dot(faces.inward[0], faces.inward[1]) < 0.0f)
-      continue;  // flat crease: the two faces continue each other
+    bool flat = faces.inward.size() >= 2 && std::abs(glm::dot(faces.normal[0], faces.normal[1])) > 1.0f - kFlatCrease &&
+                glm::dot(faces.inward[0], faces.inward[1]) < 0.0f;
+    // A flat crease: the two faces continue each other, unless motion folds them.
+    if (flat && !(deforms(faces.vertex0) || deforms(faces.vertex1) || deforms(faces.opposite[0]) ||
+                  deforms(faces.opposite[1])))
+      continue;
     gpu::GpuEdge edge{};
     glm::vec3 p0 = glm::vec3(prepared.vertices[faces.vertex0]), p1 = glm::vec3(prepared.vertices[faces.vertex1]);
     uint32_t v0 = faces.vertex0, v1 = faces.vertex1;
@@ -74,8 +87,9 @@ std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const s
     edge.inward0 = glm::vec4(faces.inward[0], 0.0f);
     edge.inward1 = glm::vec4(faces.inward.size() >= 2 ? faces.inward[1] : glm::vec3(0.0f), 0.0f);
     out.push_back(edge);
+    list.faces.emplace_back(faces.opposite[0], faces.opposite.size() >= 2 ? faces.opposite[1] : 0xffffffffu, 0u, 0u);
     lengths.push_back(glm::length(p1 - p0));
-    moving.push_back(!movingVertex.empty() && (movingVertex.at(v0) || movingVertex.at(v1)));
+    moving.push_back(moves(v0) || moves(v1));
     total += lengths.back();
     if (moving.back()) totalMoving += lengths.back();
   }
@@ -89,7 +103,7 @@ std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const s
     out[i].inward1.w = float(pmf);
   }
   if (!out.empty()) out.back().inward0.w = 1.0f;
-  return out;
+  return list;
 }
 
 }  // namespace vktg
