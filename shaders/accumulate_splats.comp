@@ -7,16 +7,17 @@
 // summed before squaring (they are one sample's estimate there). Every sample of the render counts
 // in every pixel's mean (a pixel it missed sees a zero), so resolve divides by all samples
 // (frame.image.z). A slot's value for a lane:
-//   edge term (sample_edges):  the light-side value (pathAccum channel 0) times the lane's factor
-//                              (pathDerivs[slot].positionThroughput.x);
+//   edge term (sample_edges):  the light-side value (pathAccum channel 0) times the lane's factor,
+//                              from the slot's EdgeRecord and the lane's velocities (lib/edge.glsl);
 //   path-length boundary from the camera (connect_camera_boundary): the lane's channel, where
 //                              trace_shadow_rays_d put ΔW f dL/dθ.
-// Reads: paths (pixel), pathAccum, pathDerivs. Writes: film, kCounterNonFinite.
+// Reads: paths (pixel), pathAccum, edge records, velocities, lanes. Writes: film, kCounterNonFinite.
 // Dispatch: ceil(samples * layers * lanes / kWorkgroupSize); push.args.w: samples of the batch.
-#define VKTG_DERIVATIVE 1
+#define VKTG_LANE_INPUTS 1
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/specialization.glsl"
+#include "lib/edge.glsl"
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
@@ -33,7 +34,8 @@ void atomicAddFilm(uint floatIndex, float value) {
 float slotValue(uint slot, uint layer, uint lane) {
   uint layers = frame.gateInfo.y, channels = frame.pathInfo.z;
   if (kSpecTermValue == kTermPathLength) return pathAccum[(slot * layers + layer) * channels + 1u + lane];
-  return pathAccum[(slot * layers + layer) * channels] * pathDerivs[slot * kSpecLanesValue + lane].positionThroughput.x;
+  float value = pathAccum[(slot * layers + layer) * channels];
+  return value == 0.0 ? 0.0 : value * edgeRecordFactor(edgeRecords[slot], lane);
 }
 
 void splat(uint pixel, uint layer, uint lane, float x) {
@@ -48,11 +50,11 @@ void splat(uint pixel, uint layer, uint lane, float x) {
 }
 
 void main() {
-  uint layers = frame.gateInfo.y, lanes = kSpecLanesValue;
+  uint layers = frame.gateInfo.y, laneCount = kSpecLanesValue;
   uint index = gl_GlobalInvocationID.x;
-  if (index >= push.args.w * layers * lanes) return;
-  uint i = index / (layers * lanes);
-  uint layer = (index / lanes) % layers, lane = index % lanes;
+  if (index >= push.args.w * layers * laneCount) return;
+  uint i = index / (layers * laneCount);
+  uint layer = (index / laneCount) % layers, lane = index % laneCount;
   uint pixel0 = paths[2u * i].ids.x, pixel1 = paths[2u * i + 1u].ids.x;
   float x0 = slotValue(2u * i, layer, lane), x1 = slotValue(2u * i + 1u, layer, lane);
   if (pixel0 == pixel1) {

@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+// vktg-variant: connect_camera_boundary_adj VKTG_ADJOINT=1
 // Pass connect_camera_boundary: the path-length-boundary term (THEORY.md §3) of the paths whose
 // only free vertex the per-pixel pass cannot place on a jump. That pass starts its ellipsoidal
 // connections at the first hit behind a pinhole (the pixel fixes it) and at the sensor itself at a
@@ -25,7 +26,11 @@
 // Reads: scene, BVH, camera, lights, velocities. Writes: paths[2i, 2i + 1] (pixel), shadow queue,
 // shadowDerivs. Dispatch: ceil(samples of the batch / kWorkgroupSize); push.args: x first sample of
 // the batch, w samples in the batch.
+// _adj, the adjoint form: each connection records its vertices (ShadowAdjoint) instead of lanes, and
+// trace_shadow_rays_adj scatters ΔW(s_j) a f dL/dθ from them.
+#ifndef VKTG_ADJOINT
 #define VKTG_DERIVATIVE 1
+#endif
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
@@ -66,12 +71,18 @@ void connect(uint slot, vec3 c, LightSample ls, float s, uint jump, float weight
   uint queued = queueShadowRay(slot, kNoTape, kConnectionStandard, c, x1.position, ls.position, 2u, value, s, jump);
   if (queued == 0xffffffffu) return;
   paths[slot].ids.x = pixel;
+#ifdef VKTG_ADJOINT
+  // x1 stays on its camera ray (this connection exists behind a pinhole only).
+  shadowAdjoint[queued] = ShadowAdjoint(uvec4(es.triangle, floatBitsToUint(es.barycentrics), 1u),
+                                        uvec4(ls.index, floatBitsToUint(ls.barycentrics), 0u));
+#else
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
     Dual3 x = firstHitPositionDual(es.triangle, es.barycentrics, w1, lane);
     LightDual y = lightDual(ls, lane);
     float dLen = dualSegment(dual3(c), x).len.d + dualSegment(x, y.position).len.d;
     storeShadowDerivative(queued, lane, 0.0, dLen);
   }
+#endif
 }
 
 // The path c -> y of length s, y on an emitter, into slot `slot`. The ellipsoid with both foci at c
@@ -100,8 +111,14 @@ void connectDirect(uint slot, vec3 c, float s, uint jump, float weight, vec4 uEl
   uint queued = queueShadowRay(slot, kNoTape, kConnectionStandard, c, y.position, vec3(0.0), 1u, value, s, jump);
   if (queued == 0xffffffffu) return;
   paths[slot].ids.x = pixel;
+#ifdef VKTG_ADJOINT
+  // y as the interior pass sees it: on its camera ray behind a pinhole, a material point at a sensor.
+  uint rayForm = kSpecCameraTypeValue == kCameraPerspective ? 1u : 0u;
+  shadowAdjoint[queued] = ShadowAdjoint(uvec4(es.triangle, floatBitsToUint(es.barycentrics), rayForm), uvec4(0xffffffffu));
+#else
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane)
     storeShadowDerivative(queued, lane, 0.0, dualSegment(dual3(c), firstHitPositionDual(es.triangle, es.barycentrics, w, lane)).len.d);
+#endif
 }
 
 void main() {

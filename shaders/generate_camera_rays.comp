@@ -1,7 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // vktg-variant: generate_camera_rays_d VKTG_DERIVATIVE=1
-// Pass generate_camera_rays (_d: also zeroes the path's derivative lanes): starts one path per (pixel, sample) of the batch.
+// vktg-variant: generate_camera_rays_adj VKTG_ADJOINT=1
+// Pass generate_camera_rays (_d: also zeroes the path's derivative lanes; _adj: starts the path's
+// tape with the camera or sensor): starts one path per (pixel, sample) of the batch.
 // Reads: frame (camera), push.args (x first pixel-sample index, w active paths).
 // Writes: paths[i], ray queue 0 (+ its counter); at a point sensor also the shadow queue (NEE
 // from the sensor itself: direct light and, in ellipsoidal mode, one-bounce connections).
@@ -27,6 +29,9 @@ void main() {
 #ifdef VKTG_DERIVATIVE
   for (uint lane = 0u; lane < kSpecLanesValue; ++lane)
     pathDerivs[i * kSpecLanesValue + lane] = PathDerivative(vec4(0.0), vec4(0.0));
+#endif
+#ifdef VKTG_ADJOINT
+  tape[tapeIndex(0u, i)] = TapeVertex(vec4(uintBitsToFloat(0xffffffffu), 0.0, 0.0, 1.0), vec4(0.0));
 #endif
   PathState ps;
   ps.position = vec4(frame.cameraPosition.xyz, 0.0);

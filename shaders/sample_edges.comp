@@ -17,13 +17,12 @@
 // ordinary shade and trace_shadow_rays passes, which close it with emission, standard or
 // ellipsoidal NEE at any depth, so a narrow gate still lands every path in its support. Each
 // sample owns two path slots (2i: the unoccluded side, 2i + 1: the occluded side of a primary
-// pinhole sample, or the to-light path); the per-lane factor -v_n (+v_n on the occluded side)
-// waits in pathDerivs[slot].positionThroughput.x for accumulate_edges, which splats slot values
-// times factors into the sample's pixel.
-// Reads: edges, scene BVH, camera, velocities. Writes: paths[2i, 2i+1], hits, ray queue 0,
-// pathDerivs (factors), edge counters. Dispatch: ceil(edge samples of the batch / kWorkgroupSize);
-// push.args: x first edge sample of the batch, w samples in the batch.
-#define VKTG_DERIVATIVE 1
+// pinhole sample, or the to-light path); each slot's boundary geometry goes to its EdgeRecord,
+// from which accumulate_splats (forward lanes: the factor -v_n, +v_n on the occluded side) or
+// scatter_edges (the adjoint) finish the slot once its light side is known.
+// Reads: edges, scene BVH, camera. Writes: paths[2i, 2i+1], hits, ray queue 0, edge records,
+// edge counters. Dispatch: ceil(edge samples of the batch / kWorkgroupSize); push.args: x first
+// edge sample of the batch, w samples in the batch.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
@@ -43,26 +42,8 @@ const float kEdgeOffsetEpsilons = 8.0;
 const uint kRngDimEdgeWalk = 8u;  // + walk step: the camera side's numbers (stream kNoPixel)
 const float kPrimaryProbability = 0.35, kToLightProbability = 0.45, kSecondaryProbability = 0.2;
 
-vec3 surfaceVelocity(uint triangle, vec2 uv, uint lane) {
-  Dual3 p0, p1, p2;
-  triangleDual(triangle, lane, p0, p1, p2);
-  return dBarycentric(p0, p1, p2, uv).d;
-}
-
-// Velocity of the boundary segment's end x_a at depth `depth`: on its camera ray behind a pinhole
-// when it is the first hit (the interior pass's parametrisation), else a material point.
-vec3 firstHitVelocity(uint triangle, vec2 uv, uint depth, vec3 cameraRay, uint lane) {
-  return depth == 1u ? firstHitPositionDual(triangle, uv, cameraRay, lane).d : surfaceVelocity(triangle, uv, lane);
-}
-
-vec3 edgePointVelocity(GpuEdge e, float t, uint lane) {
-  uint base = lane * vertexCount();
-  return mix(vertexVelocity[base + floatBitsToUint(e.p0.w)].xyz, vertexVelocity[base + floatBitsToUint(e.p1.w)].xyz, t);
-}
-
-void setFactor(uint slot, uint lane, float factor) {
-  pathDerivs[slot * kSpecLanesValue + lane].positionThroughput = vec4(factor, 0.0, 0.0, 0.0);
-}
+// x_a at depth 1 behind a pinhole stays on its camera ray (the interior pass's parametrisation).
+bool endAOnCameraRay(uint depth) { return depth == 1u && kSpecCameraTypeValue == kCameraPerspective; }
 
 // Hands slot `slot` to shade: the path stands at `from` (vertex `depth`, reached over length
 // `len`) and its next segment, the boundary segment or the ray beside it, ends at `hit`.
@@ -82,7 +63,7 @@ void startEdgePath(uint slot, vec3 from, vec3 before, uint fromTriangle, vec3 fr
   rayQueues[queued] = slot;
 }
 
-void primarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float pY, float offset) {
+void primarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3 y, float pY, float offset) {
   vec3 c = frame.cameraPosition.xyz;
   float dA = distance(y, c);
   vec3 w = (y - c) / dA;
@@ -104,11 +85,10 @@ void primarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float p
   if (hitB) {
     uint tb = floatBitsToUint(hb.tuvTriangle.w);
     float dB = max(distance(surfacePoint(tb, hb.tuvTriangle.yz).position, y), 0.0);
-    for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
-      // Behind a pinhole x_b slides along the ray, within the plane: no normal velocity.
-      vec3 vB = pinhole ? vec3(0.0) : surfaceVelocity(tb, hb.tuvTriangle.yz, lane);
-      setFactor(2u * i, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vec3(0.0), vB, dA, dB, np));
-    }
+    EdgeRecord r = boundaryRecord(edge, t, np, dA, dB);
+    // Behind a pinhole x_b slides along the ray, within the plane: no normal velocity.
+    if (!pinhole) recordEndB(r, tb, hb.tuvTriangle.yz, 0xffffffffu);
+    edgeRecords[2u * i] = r;
     startEdgePath(2u * i, c, c, 0xffffffffu, frame.cameraForward.xyz, 0.0, wVisible, hb, weight, 1.0, 0u, pixel,
                   sampleIndex, 0u);
   }
@@ -118,8 +98,10 @@ void primarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float p
   vec3 wHidden = normalize(y - offset * np - c);
   HitRecord ho;
   if (!traceClosest(c, wHidden, eps, kInfinity, ho)) return;
-  for (uint lane = 0u; lane < kSpecLanesValue; ++lane)
-    setFactor(2u * i + 1u, lane, dot(edgePointVelocity(e, t, lane), np));
+  EdgeRecord hidden = boundaryRecord(edge, t, np, 1.0, 1.0);
+  hidden.normalScale.w = 1.0;
+  hidden.ends.yz = vec2(0.0);
+  edgeRecords[2u * i + 1u] = hidden;
   startEdgePath(2u * i + 1u, c, c, 0xffffffffu, frame.cameraForward.xyz, 0.0, wHidden, ho, weight, 1.0, 0u, pixel,
                 sampleIndex, 0u);
 }
@@ -150,16 +132,14 @@ float cameraConnection(vec3 position, vec3 normal, out uint pixel, out vec3 wc, 
 // It does not continue through a dielectric (refraction would need the adjoint 1/eta^2 and the
 // optical length inside): boundary segments seen only through glass are sampled at depth 1 only.
 // Returns the camera side's weight including f at x_a (0 on failure), with the pixel, the camera
-// side's optical length, c (x_a's depth), the camera's direction from x_a when c = 1 (for its
-// ray-form velocity) and the IOR of the medium the boundary segment runs in.
+// side's optical length, c (x_a's depth) and the IOR of the medium the boundary segment runs in.
 const float kConnectProbability = 0.5;
 
 float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out float len, out uint depth,
-                 out vec3 cameraRay, out float ior) {
+                 out float ior) {
   pixel = kNoPixel;
   len = 0.0;
   depth = 0u;
-  cameraRay = vec3(0.0);
   ior = 1.0;
   // Segments the camera side may use: the boundary segment needs one, the rest of the path none.
   uint maxSegments = frame.gateInfo.w > 1u ? frame.gateInfo.w - 1u : 0u;
@@ -178,10 +158,7 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
     if (connection != 0.0) connection *= bsdfEval(m, normal, wc, toward);
     float connectProbability = connection == 0.0 ? 0.0 : (last ? 1.0 : kConnectProbability);
     if (u.w < connectProbability) {
-      if (c == 1u) {
-        cameraRay = -wc;
-        if (dot(normal, toward) * dot(normal, wc) < 0.0) ior = dot(normal, toward) < 0.0 ? m.ior : 1.0;
-      }
+      if (c == 1u && dot(normal, toward) * dot(normal, wc) < 0.0) ior = dot(normal, toward) < 0.0 ? m.ior : 1.0;
       addLength(len, comp, r);
       depth = c;
       pixel = connectedPixel;
@@ -213,7 +190,6 @@ struct CameraEnd {
   float weight;   // cameraSide's weight (> 0 when found)
   uint pixel, depth;
   float len, ior;
-  vec3 cameraRay;
 };
 
 bool findCameraEnd(vec3 yv, vec3 w, uint sampleIndex, out CameraEnd a) {
@@ -223,13 +199,13 @@ bool findCameraEnd(vec3 yv, vec3 w, uint sampleIndex, out CameraEnd a) {
   a.triangle = floatBitsToUint(ha.tuvTriangle.w);
   a.uv = ha.tuvTriangle.yz;
   a.point = surfacePoint(a.triangle, a.uv);
-  a.weight = cameraSide(a.point, w, sampleIndex, a.pixel, a.len, a.depth, a.cameraRay, a.ior);
+  a.weight = cameraSide(a.point, w, sampleIndex, a.pixel, a.len, a.depth, a.ior);
   if (a.weight == 0.0) return false;
   atomicAdd(counters[kCounterEdgeConnected], 1u);
   return true;
 }
 
-void secondarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float pY, float offset, vec2 uDir) {
+void secondarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3 y, float pY, float offset, vec2 uDir) {
   vec3 w = sampleUniformSphere(uDir);
   vec3 np;
   float sinPhi;
@@ -244,11 +220,10 @@ void secondarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float
   // 1 / p_w = 4 pi for the uniform direction.
   float weight = a.weight * sinPhi * 4.0 * kPi / (pY * kSecondaryProbability);
   float dA = distance(y, a.point.position), dB = distance(surfacePoint(tb, hb.tuvTriangle.yz).position, y);
-  for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
-    vec3 vA = firstHitVelocity(a.triangle, a.uv, a.depth, a.cameraRay, lane);
-    vec3 vB = surfaceVelocity(tb, hb.tuvTriangle.yz, lane);
-    setFactor(2u * i, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vA, vB, dA, dB, np));
-  }
+  EdgeRecord r = boundaryRecord(edge, t, np, dA, dB);
+  recordEndA(r, a.triangle, a.uv, endAOnCameraRay(a.depth));
+  recordEndB(r, tb, hb.tuvTriangle.yz, 0xffffffffu);
+  edgeRecords[2u * i] = r;
   startEdgePath(2u * i, a.point.position, a.point.position, a.triangle, a.point.normal, a.len, w, hb, weight, a.ior,
                 a.depth, a.pixel, sampleIndex, kPathFlagNoArrivalEmission);
 }
@@ -257,7 +232,7 @@ void secondarySample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float
 // variables from the direction at y to the light point (dw = |cos_b| dA_b / |x_b - y|^2, x_b the
 // first thing y sees that way) turns 1 / p_w into |cos_b| / (|x_b - y|^2 p_A); a point light is a
 // fixed end (1 / |x_b - y|^2, its selection probability in place of p_A).
-void toLightSample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float pY, float offset, vec3 uLight) {
+void toLightSample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3 y, float pY, float offset, vec3 uLight) {
   LightSample ls;
   if (!sampleLight(uLight, ls)) return;
   float dB = distance(ls.position, y);
@@ -284,11 +259,11 @@ void toLightSample(uint i, uint sampleIndex, GpuEdge e, float t, vec3 y, float p
   float len = a.len, comp = 0.0;
   addLength(len, comp, distance(a.point.position, ls.position) * a.ior);
   uint slot = 2u * i + 1u;
-  for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
-    vec3 vA = firstHitVelocity(a.triangle, a.uv, a.depth, a.cameraRay, lane);
-    vec3 vB = lightDual(ls, lane).position.d;
-    setFactor(slot, lane, -edgeNormalVelocity(edgePointVelocity(e, t, lane), vA, vB, dA, dB, np));
-  }
+  EdgeRecord r = boundaryRecord(edge, t, np, dA, dB);
+  recordEndA(r, a.triangle, a.uv, endAOnCameraRay(a.depth));
+  if (ls.isPoint) recordEndB(r, 0xffffffffu, vec2(0.0), ls.index);
+  else recordEndB(r, ls.triangle, ls.barycentrics, 0xffffffffu);
+  edgeRecords[slot] = r;
   paths[slot].ids.x = a.pixel;
   addContribution(slot, value, len);
 }
@@ -299,18 +274,19 @@ void main() {
   uint sampleIndex = push.args.x + i;
   for (uint side = 0u; side < 2u; ++side) {
     paths[2u * i + side].ids = uvec4(kNoPixel, sampleIndex, 0u, 0u);
-    for (uint lane = 0u; lane < kSpecLanesValue; ++lane) setFactor(2u * i + side, lane, 0.0);
+    edgeRecords[2u * i + side] = EdgeRecord(vec4(0.0), vec4(0.0), uvec4(0xffffffffu), uvec4(0xffffffffu));
   }
   if (frame.edgeInfo.x == 0u) return;
   Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimCamera, frame.image.w);
   vec4 u = rngNext4(rng);
-  GpuEdge e = edges[selectEdge(u.x)];
+  uint edge = selectEdge(u.x);
+  GpuEdge e = edges[edge];
   float t = u.y;
   vec3 y = mix(e.p0.xyz, e.p1.xyz, t);
   float pY = e.inward1.w / distance(e.p0.xyz, e.p1.xyz);
   float offset = kEdgeOffsetEpsilons * frame.sceneInfo.x;
   vec4 u2 = rngNext4(rng);
-  if (u.z < kPrimaryProbability) primarySample(i, sampleIndex, e, t, y, pY, offset);
-  else if (u.z < kPrimaryProbability + kToLightProbability) toLightSample(i, sampleIndex, e, t, y, pY, offset, u2.xyz);
-  else secondarySample(i, sampleIndex, e, t, y, pY, offset, u2.xy);
+  if (u.z < kPrimaryProbability) primarySample(i, sampleIndex, edge, e, t, y, pY, offset);
+  else if (u.z < kPrimaryProbability + kToLightProbability) toLightSample(i, sampleIndex, edge, e, t, y, pY, offset, u2.xyz);
+  else secondarySample(i, sampleIndex, edge, e, t, y, pY, offset, u2.xy);
 }

@@ -1,7 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // vktg-variant: shade_d VKTG_DERIVATIVE=1
-// Pass shade (shade_d: the same with K derivative lanes, kSpecLanes): one path vertex per queued ray. Adds emission of hit emitters (MIS-weighted),
+// vktg-variant: shade_adj VKTG_ADJOINT=1
+// Pass shade (shade_d: the same with K derivative lanes, kSpecLanes; shade_adj: the adjoint form,
+// which records the vertex on the tape and weights emission by the adjoint image instead of
+// adding it to the path): one path vertex per queued ray. Adds emission of hit emitters (MIS-weighted),
 // ends paths whose length passed the gate's support, queues next-event estimation (standard or
 // ellipsoidal), samples the BSDF, applies Russian roulette where the gate allows, and queues the
 // continuing path for the next depth.
@@ -11,6 +14,9 @@
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
 #include "lib/nee.glsl"
+#ifdef VKTG_ADJOINT
+#include "lib/adjoint.glsl"
+#endif
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
@@ -77,6 +83,11 @@ void main() {
   }
 #endif
   uint firstEllipsoid = pathFirstEllipsoidVertex(ps);
+#ifdef VKTG_ADJOINT
+  // The tape: this vertex, and the adjoint weights of what closes here (emission below; the
+  // connections queued below add theirs in trace_shadow_rays).
+  vec2 emissionWeights = vec2(0.0);
+#endif
   if (kSpecTermValue == kTermInterior && shape.emission > 0.0 && dot(sp.normal, wi) > 0.0 &&
       emitterHitCounts(depth, firstEllipsoid) && (ps.ids.w & kPathFlagNoArrivalEmission) == 0u) {
     // MIS against the standard NEE of the previous vertex, when that vertex did one (the
@@ -93,7 +104,13 @@ void main() {
       mis = powerHeuristic(ps.misc.x, pdfLight);
     }
     float value = throughput * shape.emission * mis;
+#ifdef VKTG_ADJOINT
+    emissionWeights = adjointGateWeights(pixel, len) * value;
+    scatterGate(-emissionWeights.y);
+    scatterEmission(sp.shape, emissionWeights.x / shape.emission);
+#else
     addContribution(path, value, len);
+#endif
 #ifdef VKTG_DERIVATIVE
     for (uint lane = 0u; lane < kSpecLanesValue; ++lane) {
       PathDerivative pd = pathDerivs[path * kSpecLanesValue + lane];
@@ -103,6 +120,10 @@ void main() {
 #endif
   }
 
+#ifdef VKTG_ADJOINT
+  tape[tapeIndex(depth, path)] = TapeVertex(vec4(uintBitsToFloat(triangle), uv, ps.misc.y), vec4(emissionWeights, 0.0, 0.0));
+  tape[tapeIndex(0u, path)].adjoint.z = uintBitsToFloat(depth);
+#endif
   // Nothing can reach the gate any more: every extension only makes the path longer.
   if (len > frame.gateSupport.y) {
     atomicAdd(counters[kCounterEndedByGate], 1u);

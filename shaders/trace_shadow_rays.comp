@@ -1,18 +1,26 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // vktg-variant: trace_shadow_rays_d VKTG_DERIVATIVE=1
+// vktg-variant: trace_shadow_rays_adj VKTG_ADJOINT=1
 // Pass trace_shadow_rays (_d: also adds the connection's derivative lanes): visibility of every
 // queued connection (one or two segments); adds the value of the unoccluded ones to their path's
 // accumulator at the connection's path length. One invocation per path on the shadow queue, which
 // visits the path's filled slots in order and clears its slot mask for the next bounce.
 // Reads: shadow queue, slot masks, scene BVH. Writes: pathAccum, slot masks. Dispatch: indirect
 // (paths on the shadow queue).
+// _adj, the adjoint form: an unoccluded connection's adjoint weights (lib/adjoint.glsl) go to its
+// first vertex's tape entry, for backprop_paths to carry back along the path, and the gradient of
+// its own factors (the connection's segments, BSDFs, light) straight into the accumulators.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/bvh.glsl"
 #include "lib/path.glsl"
 #ifdef VKTG_DERIVATIVE
 #include "lib/path_derivative.glsl"
+#endif
+#ifdef VKTG_ADJOINT
+#include "lib/nee.glsl"
+#include "lib/adjoint.glsl"
 #endif
 
 layout(local_size_x = kWorkgroupSize) in;
@@ -26,11 +34,121 @@ bool segmentVisible(vec3 a, vec3 b) {
   return !traceAny(a, d / dist, eps, dist - eps);
 }
 
+#ifdef VKTG_ADJOINT
+// The light end of a connection, as sampleLight produced it.
+struct LightEnd {
+  vec3 position, normal;
+  float emission;
+  bool isPoint;
+  uint triangle, shape;
+  vec2 uv;
+};
+
+LightEnd lightEnd(uvec4 record) {
+  LightEnd l;
+  GpuLight light = lights[record.x];
+  l.isPoint = sceneHasLightType(kLightPoint) && light.type == kLightPoint;
+  l.uv = uintBitsToFloat(record.yz);
+  if (l.isPoint) {
+    l.position = light.positionIntensity.xyz;
+    l.normal = vec3(0.0);
+    l.emission = light.positionIntensity.w;
+    l.triangle = 0xffffffffu;
+    l.shape = 0u;
+    return l;
+  }
+  SurfacePoint sp = surfacePoint(light.triangle, l.uv);
+  l.position = sp.position;
+  l.normal = sp.normal;
+  l.emission = shapes[sp.shape].emission;
+  l.triangle = light.triangle;
+  l.shape = sp.shape;
+  return l;
+}
+
+// Scatters the adjoint of a connection's light end, and the derivative of its emission.
+void scatterLightEnd(LightEnd l, uint lightIndex, VertexAdjoint y, float valueWeight) {
+  if (l.isPoint) {
+    scatterPointLight(lightIndex, valueWeight / l.emission, y.position);
+    return;
+  }
+  scatterEmission(l.shape, valueWeight / l.emission);
+  scatterSurfaceAdjoint(l.triangle, l.uv, y, false);
+}
+
+// A connection from the camera (connect_camera_boundary): the path-length boundary of paths whose
+// first hit the pixel fixes; only their length is differentiated.
+void cameraConnectionAdjoint(ShadowRay r, ShadowAdjoint sa, float lengthWeight) {
+  SurfacePoint m = surfacePoint(sa.middle.x, uintBitsToFloat(sa.middle.yz));
+  bool rayForm = sa.middle.w != 0u;
+  Segment first = Segment(frame.cameraPosition.xyz, frame.cameraPosition.xyz, m.position, frame.cameraForward.xyz,
+                          m.normal, 0u, false, false, false);
+  VertexAdjoint c = noAdjoint(), x = noAdjoint(), y = noAdjoint(), unused = noAdjoint();
+  segmentAdjoint(first, 0.0, lengthWeight, unused, c, x);
+  if (sa.light.x != 0xffffffffu) {
+    LightEnd l = lightEnd(sa.light);
+    Segment second = Segment(frame.cameraPosition.xyz, m.position, l.position, m.normal, l.normal, 0u, false, false, false);
+    segmentAdjoint(second, 0.0, lengthWeight, unused, x, y);
+    scatterLightEnd(l, sa.light.x, y, 0.0);
+  }
+  scatterSurfaceAdjoint(sa.middle.x, uintBitsToFloat(sa.middle.yz), x, rayForm);
+}
+
+// A connection from path vertex `depth`: (the value weight, the length weight) of its contribution
+// go onto the tape; its own factors' gradient into the accumulators.
+void pathConnectionAdjoint(ShadowRay r, ShadowAdjoint sa, uint path, float valueWeight, float lengthWeight) {
+  uint depth = r.info.w;
+  TapeVertex entry = tape[tapeIndex(depth, path)];
+  tape[tapeIndex(depth, path)].adjoint.xy = entry.adjoint.xy + vec2(valueWeight, lengthWeight);
+  TapePoint a = tapePoint(depth, path);
+  TapePoint p = depth > 0u ? tapePoint(depth - 1u, path) : a;
+  LightEnd l = lightEnd(sa.light);
+  bool hasBsdf = depth > 0u;  // at the sensor its importance (constant) takes f's place
+  VertexAdjoint pBar = noAdjoint(), aBar = noAdjoint(), yBar = noAdjoint();
+  if (sa.middle.x == 0xffffffffu) {
+    Segment s = Segment(p.position, a.position, l.position, a.normal, l.normal, a.material, hasBsdf, !l.isPoint, !l.isPoint);
+    segmentAdjoint(s, valueWeight, lengthWeight, pBar, aBar, yBar);
+  } else {
+    vec2 mUv = uintBitsToFloat(sa.middle.yz);
+    SurfacePoint m = surfacePoint(sa.middle.x, mUv);
+    uint mMaterial = shapes[m.shape].material;
+    VertexAdjoint mBar = noAdjoint();
+    Segment first = Segment(p.position, a.position, m.position, a.normal, m.normal, a.material, hasBsdf, true, true);
+    Segment second = Segment(a.position, m.position, l.position, m.normal, l.normal, mMaterial, true, !l.isPoint, !l.isPoint);
+    segmentAdjoint(first, valueWeight, lengthWeight, pBar, aBar, mBar);
+    segmentAdjoint(second, valueWeight, lengthWeight, aBar, mBar, yBar);
+    scatterSurfaceAdjoint(sa.middle.x, mUv, mBar, false);
+  }
+  scatterLightEnd(l, sa.light.x, yBar, valueWeight);
+  if (depth >= 1u) scatterSurfaceAdjoint(a.triangle, a.uv, aBar, onCameraRay(depth));
+  if (depth >= 2u) scatterSurfaceAdjoint(p.triangle, p.uv, pBar, onCameraRay(depth - 1u));
+}
+#endif
+
 // One connection: its contribution if every segment is unoccluded.
 void traceConnection(uint slot) {
   ShadowRay r = shadowRays[slot];
   if (!segmentVisible(r.p0Value.xyz, r.p1Length.xyz)) return;
   if (r.info.y == 2u && !segmentVisible(r.p1Length.xyz, r.p2.xyz)) return;
+#ifdef VKTG_ADJOINT
+  uint path = r.info.x;
+  uint pixel = paths[path].ids.x;
+  if (pixel == kNoPixel) return;
+  ShadowAdjoint sa = shadowAdjoint[slot];
+  // Path-length boundary: only the length moves the path across the jump (gate centre: -1).
+  vec2 weights = kSpecTermValue == kTermPathLength ? vec2(0.0, adjointJumpWeight(pixel, r.info.z))
+                                                   : adjointGateWeights(pixel, r.p1Length.w);
+  weights *= r.p0Value.w;
+  if (isnan(weights.x) || isinf(weights.x) || isnan(weights.y) || isinf(weights.y)) {
+    atomicAdd(counters[kCounterNonFinite], 1u);
+    return;
+  }
+  if (weights == vec2(0.0)) return;
+  scatterGate(-weights.y);
+  if (r.info.w == kNoTape) cameraConnectionAdjoint(r, sa, weights.y);
+  else pathConnectionAdjoint(r, sa, path, weights.x, weights.y);
+  return;
+#endif
 #ifdef VKTG_DERIVATIVE
   if (kSpecTermValue == kTermPathLength) {
     // ΔW_k(s) f dL/dθ for the layers whose weight jumps at s (gate-centre lane: the jump moves

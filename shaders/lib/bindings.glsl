@@ -1,27 +1,12 @@
-// Descriptor declarations of set 0 (layouts in include/vktg/gpu/shared.h) and accessors that
-// hide the chunking of large buffers (each chunk stays under maxStorageBufferRange; lavapipe has
-// no descriptor indexing, so chunks are separate bindings selected by a switch).
+// Descriptor declarations of set 0 in the render layout (include/vktg/gpu/shared.h): the scene
+// part (lib/scene_bindings.glsl), the wavefront, the film, and the bindings 25-28 each kind of pass
+// gives its own meaning (derivative lanes, adjoint buffers, edge records).
 #ifndef VKTG_BINDINGS_GLSL
 #define VKTG_BINDINGS_GLSL
-#include "vktg/gpu/shared.h"
+#include "lib/scene_bindings.glsl"
 
-layout(std140, set = 0, binding = kBindingFrame) uniform FrameBlock { FrameUniforms frame; };
-
-#define VKTG_CHUNKS(Type, name, base)                                                      \
-  layout(std430, set = 0, binding = base + 0) buffer name##Chunk0 { Type name##0[]; };     \
-  layout(std430, set = 0, binding = base + 1) buffer name##Chunk1 { Type name##1[]; };     \
-  layout(std430, set = 0, binding = base + 2) buffer name##Chunk2 { Type name##2[]; };     \
-  layout(std430, set = 0, binding = base + 3) buffer name##Chunk3 { Type name##3[]; };
-
-VKTG_CHUNKS(GpuTriangle, triangles, kBindingTriangles)
-VKTG_CHUNKS(GpuBvhNode, bvhNodes, kBindingBvhNodes)
 VKTG_CHUNKS(float, film, kBindingFilm)
 
-layout(std430, set = 0, binding = kBindingTriangleVerts) readonly buffer TriangleVertsBlock { uvec4 triangleVerts[]; };
-layout(std430, set = 0, binding = kBindingVertices) readonly buffer VerticesBlock { vec4 vertices[]; };
-layout(std430, set = 0, binding = kBindingShapes) readonly buffer ShapesBlock { GpuShape shapes[]; };
-layout(std430, set = 0, binding = kBindingMaterials) readonly buffer MaterialsBlock { GpuMaterial materials[]; };
-layout(std430, set = 0, binding = kBindingLights) readonly buffer LightsBlock { GpuLight lights[]; };
 layout(std430, set = 0, binding = kBindingPaths) buffer PathsBlock { PathState paths[]; };
 layout(std430, set = 0, binding = kBindingHits) buffer HitsBlock { HitRecord hits[]; };
 layout(std430, set = 0, binding = kBindingRayQueues) buffer RayQueuesBlock { uint rayQueues[]; };
@@ -30,30 +15,16 @@ layout(std430, set = 0, binding = kBindingCounters) buffer CountersBlock { uint 
 layout(std430, set = 0, binding = kBindingDispatchArgs) buffer DispatchArgsBlock { uint dispatchArgs[]; };
 layout(std430, set = 0, binding = kBindingPathAccum) buffer PathAccumBlock { float pathAccum[]; };
 
-#ifdef VKTG_DERIVATIVE
+// Forward-mode lanes: what each lane differentiates (VKTG_LANE_INPUTS, also read by
+// accumulate_splats), and the per-path derivative state (VKTG_DERIVATIVE).
+#if defined(VKTG_DERIVATIVE) || defined(VKTG_LANE_INPUTS)
 layout(std430, set = 0, binding = kBindingVertexVelocity) readonly buffer VertexVelocityBlock { vec4 vertexVelocity[]; };
 layout(std430, set = 0, binding = kBindingLanes) readonly buffer LanesBlock { GpuLane lanes[]; };
+#endif
+#ifdef VKTG_DERIVATIVE
 layout(std430, set = 0, binding = kBindingPathDerivs) buffer PathDerivsBlock { PathDerivative pathDerivs[]; };
 layout(std430, set = 0, binding = kBindingShadowDerivs) buffer ShadowDerivsBlock { vec2 shadowDerivs[]; };
 #endif
-
-GpuTriangle loadTriangle(uint i) {
-  uint c = i >> frame.chunkShift.x;
-  uint j = i & ((1u << frame.chunkShift.x) - 1u);
-  if (c == 0u) return triangles0[j];
-  if (c == 1u) return triangles1[j];
-  if (c == 2u) return triangles2[j];
-  return triangles3[j];
-}
-
-GpuBvhNode loadBvhNode(uint i) {
-  uint c = i >> frame.chunkShift.y;
-  uint j = i & ((1u << frame.chunkShift.y) - 1u);
-  if (c == 0u) return bvhNodes0[j];
-  if (c == 1u) return bvhNodes1[j];
-  if (c == 2u) return bvhNodes2[j];
-  return bvhNodes3[j];
-}
 
 // Film element i: 4 floats at 4i (see kBindingFilm), always in one chunk (chunks hold a
 // power-of-two count of floats).

@@ -25,6 +25,7 @@
 #define VKTG_EDGE_GLSL
 
 layout(std430, set = 0, binding = kBindingEdges) readonly buffer EdgesBlock { GpuEdge edges[]; };
+layout(std430, set = 0, binding = kBindingEdgeRecords) buffer EdgeRecordsBlock { EdgeRecord edgeRecords[]; };
 
 // Edge by its CDF (proportional to length).
 uint selectEdge(float u) {
@@ -53,8 +54,75 @@ bool silhouettePlane(GpuEdge e, vec3 dir, out vec3 np, out float sinPhi) {
   return true;
 }
 
-// v_n above; vA, vB zero for an end that does not move (or moves along the segment).
-float edgeNormalVelocity(vec3 vY, vec3 vA, vec3 vB, float dA, float dB, vec3 np) {
-  return dot(vY, np) - (dB * dot(vA, np) + dA * dot(vB, np)) / (dA + dB);
+// The record of a slot whose factor is -v_n (v_n above) for the boundary segment x_a -> x_b that
+// grazes edge `edge` at parameter t: the ends are filled in by the caller (recordEndA / recordEndB;
+// an end left empty does not move, or moves along the segment).
+EdgeRecord boundaryRecord(uint edge, float t, vec3 np, float dA, float dB) {
+  EdgeRecord r;
+  r.normalScale = vec4(np, -1.0);
+  r.ends = vec4(t, dB / (dA + dB), dA / (dA + dB), uintBitsToFloat(edge));
+  r.endA = uvec4(0xffffffffu, 0u, 0u, 0u);
+  r.endB = uvec4(0xffffffffu, 0u, 0u, 0xffffffffu);
+  return r;
 }
+
+// x_a at a surface point; `rayForm`: a first hit kept on its camera ray.
+void recordEndA(inout EdgeRecord r, uint triangle, vec2 uv, bool rayForm) {
+  r.endA = uvec4(triangle, floatBitsToUint(uv.x), floatBitsToUint(uv.y), rayForm ? 1u : 0u);
+}
+
+// x_b at a surface point (also an area-light point) or at a point light (lights[] index).
+void recordEndB(inout EdgeRecord r, uint triangle, vec2 uv, uint pointLight) {
+  r.endB = uvec4(triangle, floatBitsToUint(uv.x), floatBitsToUint(uv.y), pointLight);
+}
+
+// The slot factor sY (v_y . n_p) + sA (v_a . n_p) + sB (v_b . n_p) for given velocities; for a
+// boundaryRecord it is -v_n.
+float recordFactor(EdgeRecord r, vec3 vY, vec3 vA, vec3 vB) {
+  vec3 np = r.normalScale.xyz;
+  return r.normalScale.w * dot(vY, np) + r.ends.y * dot(vA, np) + r.ends.z * dot(vB, np);
+}
+
+#ifdef VKTG_LANE_INPUTS
+// The slot factor for one forward-mode lane.
+vec3 laneVertexVelocity(uint vertex, uint lane) {
+  return vertexVelocity[lane * floatBitsToUint(frame.sceneInfo.w) + vertex].xyz;
+}
+
+vec3 laneSurfaceVelocity(uint triangle, vec2 uv, uint lane) {
+  uvec4 ids = triangleVerts[triangle];
+  return (1.0 - uv.x - uv.y) * laneVertexVelocity(ids.x, lane) + uv.x * laneVertexVelocity(ids.y, lane) +
+         uv.y * laneVertexVelocity(ids.z, lane);
+}
+
+// A first hit on its fixed camera ray moves along the ray (geometry_dual.glsl's rayHitRate).
+vec3 laneRayFormVelocity(uint triangle, vec2 uv, uint lane) {
+  GpuTriangle t = loadTriangle(triangle);
+  vec3 x = (1.0 - uv.x - uv.y) * t.p0.xyz + uv.x * t.p1.xyz + uv.y * t.p2.xyz;
+  vec3 dir = normalize(x - frame.cameraPosition.xyz);
+  vec3 n = cross(t.p1.xyz - t.p0.xyz, t.p2.xyz - t.p0.xyz);
+  return dot(n, laneSurfaceVelocity(triangle, uv, lane)) / dot(n, dir) * dir;
+}
+
+float edgeRecordFactor(EdgeRecord r, uint lane) {
+  if (r.normalScale.w == 0.0) return 0.0;
+  GpuEdge e = edges[floatBitsToUint(r.ends.w)];
+  vec3 vY = mix(laneVertexVelocity(floatBitsToUint(e.p0.w), lane), laneVertexVelocity(floatBitsToUint(e.p1.w), lane),
+                r.ends.x);
+  vec3 vA = vec3(0.0);
+  if (r.endA.x != 0xffffffffu) {
+    vec2 uv = uintBitsToFloat(r.endA.yz);
+    vA = r.endA.w != 0u ? laneRayFormVelocity(r.endA.x, uv, lane) : laneSurfaceVelocity(r.endA.x, uv, lane);
+  }
+  vec3 vB = vec3(0.0);
+  if (r.endB.w != 0xffffffffu) {
+    GpuLane info = lanes[lane];
+    bool moves = info.info.x == kLaneGeometry && info.info.z == 1u && info.info.y == r.endB.w;
+    vB = moves ? info.lightVelocity.xyz : vec3(0.0);
+  } else if (r.endB.x != 0xffffffffu) {
+    vB = laneSurfaceVelocity(r.endB.x, uintBitsToFloat(r.endB.yz), lane);
+  }
+  return recordFactor(r, vY, vA, vB);
+}
+#endif
 #endif

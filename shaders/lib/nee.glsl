@@ -38,6 +38,18 @@ struct NeeVertex {
   uint depth;  // this vertex's index on the path (0: the sensor); neeAtVertex sets it
 };
 
+#ifdef VKTG_ADJOINT
+#include "lib/tape.glsl"
+
+// What the adjoint's trace_shadow_rays needs to know of a queued connection's vertices beyond its
+// first: the ellipsoidal vertex (if any) and the light sample.
+void recordConnection(uint slot, uint middleTriangle, vec2 middleUv, LightSample ls) {
+  if (slot == 0xffffffffu) return;
+  shadowAdjoint[slot] = ShadowAdjoint(uvec4(middleTriangle, floatBitsToUint(middleUv), 0u),
+                                      uvec4(ls.index, floatBitsToUint(ls.barycentrics), 0u));
+}
+#endif
+
 #ifdef VKTG_DERIVATIVE
 #include "lib/path_derivative.glsl"
 
@@ -159,6 +171,9 @@ void standardNee(uint path, NeeVertex v, uint depth, vec3 u) {
 #ifdef VKTG_DERIVATIVE
   standardNeeDerivatives(slot, v, ls, value);
 #endif
+#ifdef VKTG_ADJOINT
+  recordConnection(slot, 0xffffffffu, vec2(0.0), ls);
+#endif
 }
 
 // One ellipsoidal connection of total length s (1/p(s) = invPdfS), scaled by `share` (1/2 for
@@ -236,6 +251,9 @@ void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float
   uint slot = queueShadowRay(path, v.depth, kind, v.position, xk.position, ls.position, 2u, value, s, jump);
 #ifdef VKTG_DERIVATIVE
   ellipsoidalNeeDerivatives(slot, v, ls, es, xk.shape, value);
+#endif
+#ifdef VKTG_ADJOINT
+  recordConnection(slot, es.triangle, es.barycentrics, ls);
 #endif
 }
 

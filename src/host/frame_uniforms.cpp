@@ -15,9 +15,9 @@ float sceneDiagonal(const PreparedScene& prepared) {
   return std::max(glm::length(prepared.boundsMax - prepared.boundsMin), 1e-6f);
 }
 
-gpu::FrameUniforms sceneFrameUniforms(const Scene& scene, const PreparedScene& prepared, const GpuScene& gpuScene) {
+gpu::FrameUniforms sceneFrameUniforms(const Camera& cam, const RenderSettings& settings, const PreparedScene& prepared,
+                                      const GpuScene& gpuScene) {
   gpu::FrameUniforms f{};
-  const Camera& cam = scene.camera;
   f.cameraPosition = glm::vec4(cam.position, 0.0f);
   if (cam.type == CameraType::Perspective) {
     glm::vec3 forward = glm::normalize(cam.lookAt - cam.position);
@@ -28,10 +28,10 @@ gpu::FrameUniforms sceneFrameUniforms(const Scene& scene, const PreparedScene& p
     f.cameraForward = glm::vec4(forward, 0.0f);
     f.cameraRight = glm::vec4(right * tanHalf * aspect, 0.0f);
     f.cameraUp = glm::vec4(up * tanHalf, 0.0f);
-    f.image = glm::uvec4(cam.width, cam.height, scene.render.spp, scene.render.seed);
+    f.image = glm::uvec4(cam.width, cam.height, settings.spp, settings.seed);
   } else {
     f.cameraForward = glm::vec4(glm::normalize(cam.normal), 0.0f);
-    f.image = glm::uvec4(1, 1, scene.render.spp, scene.render.seed);
+    f.image = glm::uvec4(1, 1, settings.spp, settings.seed);
   }
   f.sceneCounts = glm::uvec4(uint32_t(prepared.triangles.size()), uint32_t(prepared.lights.size()),
                              uint32_t(prepared.shapes.size()), uint32_t(cam.type));
@@ -41,8 +41,8 @@ gpu::FrameUniforms sceneFrameUniforms(const Scene& scene, const PreparedScene& p
   f.sceneInfo = glm::vec4(2e-5f * magnitude, diagonal, prepared.totalLightPower,
                          std::bit_cast<float>(uint32_t(prepared.vertices.size())));
   f.chunkShift = glm::uvec4(gpuScene.triangles.shift, gpuScene.bvhNodes.shift, 31, 0);
-  f.pathInfo = glm::uvec4(scene.render.rouletteDepth, 0, 1, 0);
-  f.gateInfo = glm::uvec4(0, 1, 0, scene.render.maxDepth);
+  f.pathInfo = glm::uvec4(settings.rouletteDepth, 0, 1, 0);
+  f.gateInfo = glm::uvec4(0, 1, 0, settings.maxDepth);
   return f;
 }
 

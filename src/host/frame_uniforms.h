@@ -8,7 +8,8 @@
 
 namespace vktg {
 
-gpu::FrameUniforms sceneFrameUniforms(const Scene& scene, const PreparedScene& prepared, const GpuScene& gpuScene);
+gpu::FrameUniforms sceneFrameUniforms(const Camera& camera, const RenderSettings& settings, const PreparedScene& prepared,
+                                      const GpuScene& gpuScene);
 
 // Gate numbers (gate, gateSupport, gateInfo.x/y). Without the cutoff, paths are not ended when
 // their length passes the gate (same image, more work: the benchmark measures the saving).

@@ -22,3 +22,9 @@ static_assert(sizeof(ShadowAdjoint) == 32 && sizeof(TapeVertex) == 32 && sizeof(
 namespace vktg::gpu {
 static_assert(sizeof(PassPush) == 16);
 }  // namespace vktg::gpu
+
+#include "vktg/parameters.h"
+namespace vktg::gpu {
+static_assert(kParameterTranslate == uint(ParameterKind::Translate) && kParameterRotate == uint(ParameterKind::Rotate) &&
+              kParameterDisplace == uint(ParameterKind::Displace));
+}  // namespace vktg::gpu

@@ -1,6 +1,7 @@
 #include "host/gradient.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "host/planner.h"
 #include "vktg/error.h"
@@ -29,44 +30,50 @@ void addStats(RenderStats& total, const RenderStats& s) {
 
 }  // namespace
 
-GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& parameters, const GradientOptions& options) {
-  GradientPlan plan;
-  std::vector<ParameterBinding> bindings = bindParameters(scene, parameters);
-  bool movesLength = false;  // some parameter changes path lengths or the gate's position
-  bool movesGeometry = false, movesPointLight = false;
-  for (const ParameterBinding& b : bindings) {
-    movesLength |= isGeometric(b.kind) || b.kind == ParameterKind::GateCenter;
-    movesGeometry |= isGeometric(b.kind) && b.kind != ParameterKind::LightPosition;
-    movesPointLight |= b.kind == ParameterKind::LightPosition;
+ParameterEffects parameterEffects(const Scene& scene, const std::vector<uint32_t>& parameters) {
+  ParameterEffects e;
+  for (uint32_t index : parameters) {
+    ParameterKind kind = scene.parameters.at(index).kind;
+    e.movesLength |= isGeometric(kind) || kind == ParameterKind::GateCenter;
+    e.movesGeometry |= movesVertices(kind);
+    e.movesPointLight |= kind == ParameterKind::LightPosition;
   }
+  return e;
+}
+
+GradientPlan planGradient(const Scene& scene, const RenderSetup& setup, const ParameterEffects& effects,
+                          const GradientOptions& options) {
+  GradientPlan plan;
   plan.interior = options.interior;
-  if (plan.interior) plan.reasons.push_back("interior term: forward mode through every sampled path");
-  const Gate& gate = scene.gate;
+  if (plan.interior) plan.reasons.push_back("interior term: derivatives along every sampled path");
+  const Gate& gate = setup.gate;
+  const uint32_t maxDepth = setup.settings.maxDepth;
+  const CameraType camera = setup.camera.type;
   if (!options.pathLength) {
     plan.reasons.push_back("path-length-boundary term: not requested");
   } else if (!gate.hasJumps()) {
     plan.reasons.push_back("no path-length-boundary pass: the gate (" + gate.describe() + ") has no jumps");
-  } else if (!movesLength) {
+  } else if (!effects.movesLength) {
     plan.reasons.push_back("no path-length-boundary pass: no selected parameter changes path lengths or moves the gate");
   } else {
     // A connection from vertex e closes a path of e + 2 segments.
-    if (scene.render.maxDepth >= firstEllipsoidVertex(scene.camera.type) + 2) {
+    if (maxDepth >= firstEllipsoidVertex(camera) + 2) {
       plan.pathLengthPerPixel = true;
       plan.reasons.push_back("path-length-boundary pass: the gate jumps at " + std::to_string(gate.jumpLocations().size()) +
                              " lengths and parameters move path lengths across them");
     }
     bool emitters = std::any_of(scene.shapes.begin(), scene.shapes.end(), [](const Shape& sh) { return sh.emission > 0; });
-    if (scene.camera.type == CameraType::Perspective && scene.render.maxDepth >= 2) {
+    if (camera == CameraType::Perspective && maxDepth >= 2) {
       plan.pathLengthFromCamera = true;
       plan.reasons.push_back("path-length-boundary connections from the pinhole, splatted: the pixel fixes the first hit, so paths camera -> surface -> light have no other vertex to place on a jump");
     }
-    if (emitters && scene.render.maxDepth >= 1) {
+    if (emitters && maxDepth >= 1) {
       plan.pathLengthFromCamera = true;
       plan.reasons.push_back("path-length-boundary connections from the camera to emitters it sees directly, splatted (one-segment paths)");
     }
     plan.pathLength = plan.pathLengthPerPixel || plan.pathLengthFromCamera;
     if (!plan.pathLength)
-      plan.reasons.push_back("no path-length-boundary pass: max depth " + std::to_string(scene.render.maxDepth) +
+      plan.reasons.push_back("no path-length-boundary pass: max depth " + std::to_string(maxDepth) +
                              " leaves no path a connection could place on a jump");
   }
   bool twoJumps = gate.type == GateType::Box || gate.type == GateType::TruncatedGaussian;
@@ -85,7 +92,7 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
   }
   if (!options.edges) {
     plan.reasons.push_back("edge (visibility-boundary) term: not requested");
-  } else if (!movesGeometry && !movesPointLight) {
+  } else if (!effects.movesGeometry && !effects.movesPointLight) {
     plan.reasons.push_back("no edge pass: no selected parameter moves geometry that can occlude or a point light");
   } else {
     plan.edges = true;
@@ -100,15 +107,49 @@ GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& pa
 
 namespace {
 
+// The renders of a gradient: one per term the plan picks, each with its own options and budget
+// (0: the setup's spp).
+enum class Term { Interior, Edge, PathLengthPerPixel, PathLengthFromCamera };
+
+struct TermPass {
+  Term term;
+  RenderOptions options;
+  uint32_t spp;
+};
+
+std::vector<TermPass> termPasses(const GradientPlan& plan, const Gate& gate, const GradientOptions& options) {
+  std::vector<TermPass> passes;
+  RenderOptions base = options.render;
+  // The interior pass pairs mirrored lengths of gaussian gates only; the path-length-boundary
+  // pass (two-jump gates) pairs both jumps.
+  base.antithetic = plan.antithetic && gate.type == GateType::Gaussian;
+  if (plan.interior) passes.push_back({Term::Interior, base, 0});
+  if (plan.edges) {
+    RenderOptions term = base;
+    term.edges = true;
+    passes.push_back({Term::Edge, term, options.sppEdge});
+  }
+  RenderOptions boundary = base;
+  boundary.pathLengthBoundary = true;
+  boundary.antithetic = plan.antithetic;
+  if (plan.pathLengthPerPixel) passes.push_back({Term::PathLengthPerPixel, boundary, options.sppBoundary});
+  if (plan.pathLengthFromCamera) {
+    boundary.pathLengthFromCamera = true;
+    passes.push_back({Term::PathLengthFromCamera, boundary, options.sppBoundary});
+  }
+  return passes;
+}
+
 // Renders one term for every parameter, in blocks of kMaxDerivativeLanes lanes.
-TermImages renderTerm(Renderer& renderer, const Scene& scene, const std::vector<ParameterBinding>& bindings,
-                      const RenderOptions& options, RenderStats& stats, RenderResult* primal) {
+TermImages renderTerm(Renderer& renderer, DeviceScene& scene, const RenderSetup& setup,
+                      const std::vector<ParameterBinding>& bindings, const RenderOptions& options, RenderStats& stats,
+                      RenderResult* primal) {
   TermImages term;
   for (size_t first = 0; first < bindings.size(); first += kMaxDerivativeLanes) {
     RenderOptions block = options;
     size_t last = std::min(bindings.size(), first + kMaxDerivativeLanes);
     block.derivativeLanes.assign(bindings.begin() + first, bindings.begin() + last);
-    RenderResult r = renderer.render(scene, block);
+    RenderResult r = renderer.render(scene, setup, block);
     addStats(stats, r.stats);
     for (size_t k = 0; k < r.derivatives.size(); ++k) {
       term.derivatives.push_back(std::move(r.derivatives[k]));
@@ -133,6 +174,12 @@ void accumulateTerm(TermImages& a, const TermImages& b) {
       }
 }
 
+std::vector<uint32_t> parameterIndices(const Scene& scene, const std::vector<std::string>& names) {
+  std::vector<uint32_t> out;
+  for (const std::string& name : names) out.push_back(findParameter(scene, name, "--param"));
+  return out;
+}
+
 }  // namespace
 
 GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std::vector<std::string>& parameters,
@@ -141,39 +188,28 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
   std::vector<ParameterBinding> bindings = bindParameters(scene, parameters);
   GradientResult result;
   result.parameters = parameters;
-  result.plan = planGradient(scene, parameters, options);
-  RenderOptions base = options.render;
-  // The interior pass pairs mirrored lengths of gaussian gates only; the path-length-boundary
-  // pass (two-jump gates) turns the pairs on below.
-  base.antithetic = result.plan.antithetic && scene.gate.type == GateType::Gaussian;
-  if (result.plan.interior) {
-    result.interior = renderTerm(renderer, scene, bindings, base, result.stats, &result.primal);
-    accumulateTerm(result.total, result.interior);
-  } else {
-    result.primal = renderer.render(scene, base);
+  const RenderSetup setup = RenderSetup::of(scene);
+  result.plan = planGradient(scene, setup, parameterEffects(scene, parameterIndices(scene, parameters)), options);
+  // One upload of the scene serves every term and block.
+  DeviceScene deviceScene(renderer.context(), scene);
+  std::vector<TermPass> passes = termPasses(result.plan, scene.gate, options);
+  if (!result.plan.interior) {
+    RenderOptions plain = options.render;
+    plain.antithetic = result.plan.antithetic && scene.gate.type == GateType::Gaussian;
+    result.primal = renderer.render(deviceScene, setup, plain);
     addStats(result.stats, result.primal.stats);
   }
-  // A boundary term: its own render with its own budget (0: the scene's spp).
-  auto boundaryTerm = [&](uint32_t spp, const RenderOptions& term) {
-    Scene termScene = scene;
-    if (spp > 0) termScene.render.spp = spp;
-    TermImages out = renderTerm(renderer, termScene, bindings, term, result.stats, nullptr);
-    accumulateTerm(result.total, out);
-    return out;
-  };
-  if (result.plan.edges) {
-    RenderOptions term = base;
-    term.edges = true;
-    result.edges = boundaryTerm(options.sppEdge, term);
-  }
-  if (result.plan.pathLength) {
-    RenderOptions term = base;
-    term.pathLengthBoundary = true;
-    term.antithetic = result.plan.antithetic;
-    if (result.plan.pathLengthPerPixel) accumulateTerm(result.pathLength, boundaryTerm(options.sppBoundary, term));
-    if (result.plan.pathLengthFromCamera) {
-      term.pathLengthFromCamera = true;
-      accumulateTerm(result.pathLength, boundaryTerm(options.sppBoundary, term));
+  for (const TermPass& pass : passes) {
+    RenderSetup termSetup = setup;
+    if (pass.spp > 0) termSetup.settings.spp = pass.spp;
+    TermImages images = renderTerm(renderer, deviceScene, termSetup, bindings, pass.options, result.stats,
+                                   pass.term == Term::Interior ? &result.primal : nullptr);
+    accumulateTerm(result.total, images);
+    switch (pass.term) {
+      case Term::Interior: result.interior = std::move(images); break;
+      case Term::Edge: result.edges = std::move(images); break;
+      case Term::PathLengthPerPixel:
+      case Term::PathLengthFromCamera: accumulateTerm(result.pathLength, images); break;
     }
   }
   if (result.total.derivatives.empty()) throw Error("--terms: no derivative term selected");
@@ -185,6 +221,80 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
   GradientOptions gradient;
   gradient.render = options;
   return renderGradient(renderer, scene, parameters, gradient);
+}
+
+namespace {
+
+// The accumulators hold round(value * scale); aim the largest entry at 2^40 of them: 2^23 of
+// headroom below the int64 range, and 40 bits of resolution (far finer than the noise of any
+// Monte Carlo gradient) for the largest entries.
+constexpr double kTargetBits = 40, kCoarsestBits = 24;
+
+double powerOfTwoScale(double largest, double scale) {
+  return std::ldexp(scale, int(std::lround(kTargetBits - std::log2(std::max(largest, 1.0)))));
+}
+
+}  // namespace
+
+LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
+                          const GradientOptions& options, AdjointState& state) {
+  const ParameterModel* model = scene.model();
+  if (!model) throw Error("internal: a loss gradient needs a scene with a parameter model");
+  VulkanContext& context = renderer.context();
+  LossGradient result;
+  const ParameterEffects effects = parameterEffects(model->baseScene(), model->selected());
+  std::vector<GradientPlan> plans;
+  for (const AdjointView& view : views) plans.push_back(planGradient(scene.scene(), view.setup, effects, options));
+  if (!plans.empty()) result.plan = plans.front();
+  const GradientLayout layout = gradientLayout(scene.scene(), scene.prepared());
+  if (!state.accumulator || state.accumulator->layout().total != layout.total)
+    state.accumulator = std::make_unique<GradientAccumulator>(context, layout);
+  // A first scale: the adjoint-weighted images bound what the value terms can add up to.
+  if (!(state.scale > 0)) state.scale = std::ldexp(1.0, int(kTargetBits) - 20);
+
+  std::vector<Buffer> adjointBuffers;
+  for (const AdjointView& view : views) {
+    std::vector<float> flat;
+    for (const ImageLayer& layer : view.adjoint->layers) flat.insert(flat.end(), layer.pixels.begin(), layer.pixels.end());
+    adjointBuffers.emplace_back(context, std::max<size_t>(16, flat.size() * sizeof(float)), MemoryKind::Device, "adjoint.image");
+    adjointBuffers.back().upload(context, flat.data(), flat.size() * sizeof(float));
+  }
+  const uint32_t targets = adjointTargets(*model);
+  // A pass that overflowed the accumulators is redone with a coarser scale, one whose largest entry
+  // is too coarse with a finer one: both follow from deterministic sums, so a rerun repeats them.
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    result.attempts++;
+    state.accumulator->clear();
+    RenderStats stats;
+    for (size_t v = 0; v < views.size(); ++v) {
+      const AdjointView& view = views[v];
+      for (const auto& [light, position] : view.lightPositions) scene.setPointLightPosition(light, position);
+      AdjointTarget target{&adjointBuffers[v], state.accumulator.get(), state.scale, targets};
+      for (TermPass pass : termPasses(plans[v], view.setup.gate, options)) {
+        RenderSetup termSetup = view.setup;
+        if (pass.spp > 0) termSetup.settings.spp = pass.spp;
+        pass.options.adjoint = &target;
+        addStats(stats, renderer.render(scene, termSetup, pass.options).stats);
+      }
+    }
+    result.stats = stats;
+    const double largest = state.accumulator->largestMagnitude();
+    if (stats.gradientOverflows > 0) {
+      state.scale = std::ldexp(state.scale, -20);
+      continue;
+    }
+    const double next = powerOfTwoScale(largest, state.scale);
+    const bool tooCoarse = largest > 0 && largest < std::ldexp(1.0, int(kCoarsestBits));
+    if (tooCoarse && attempt + 1 < 4) {
+      state.scale = next;
+      continue;
+    }
+    result.scene = state.accumulator->read(scene.scene(), state.scale);
+    state.scale = largest > 0 ? next : state.scale;
+    result.theta = model->chainRule(std::vector<double>(scene.theta().begin(), scene.theta().end()), result.scene);
+    return result;
+  }
+  throw Error("gradient: the accumulators overflowed at every scale tried (a non-finite or huge contribution?)");
 }
 
 FiniteDifferenceResult finiteDifference(Renderer& renderer, const Scene& scene, const std::string& parameter,

@@ -1,7 +1,10 @@
 // Drivers for derivatives: `vktg grad` (forward-mode lanes through the wavefront passes, in blocks
-// of kMaxDerivativeLanes parameters; one render per term) and `vktg fd` (central finite
-// differences with common random numbers, the reference the derivative passes are checked by).
+// of kMaxDerivativeLanes parameters; one render per term), the gradient of a loss (the adjoint form
+// of the same terms: one render per term and target whatever the number of parameters), and
+// `vktg fd` (central finite differences with common random numbers, the reference the derivative
+// passes are checked by).
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,7 +39,17 @@ struct GradientPlan {
 // box and truncated gaussian: half their support's width over its centre).
 inline constexpr double kNearDeltaSigmaOverMu = 1e-2;
 
-GradientPlan planGradient(const Scene& scene, const std::vector<std::string>& parameters, const GradientOptions& options);
+// What the parameters being differentiated do, as far as the planner cares.
+struct ParameterEffects {
+  bool movesLength = false;      // some parameter changes path lengths or the gate's position
+  bool movesGeometry = false;    // some parameter moves vertices
+  bool movesPointLight = false;  // some parameter moves a point light
+};
+ParameterEffects parameterEffects(const Scene& scene, const std::vector<uint32_t>& parameters);
+
+// The terms a gradient of `scene` seen as `setup` says (camera, gate, max depth) needs.
+GradientPlan planGradient(const Scene& scene, const RenderSetup& setup, const ParameterEffects& effects,
+                          const GradientOptions& options);
 
 struct TermImages {
   std::vector<ImageSet> derivatives;  // per parameter: one layer per gate layer
@@ -63,6 +76,36 @@ struct FiniteDifferenceResult {
   ImageSet variance;    // (var+ + var-) / (4 eps^2): a bound when the shared seed correlates the sides positively
   RenderStats stats;
 };
+
+// One target of a loss: how it is seen and d loss / d image (the adjoint image, laid out as the
+// render's image: one layer per gate layer).
+struct AdjointView {
+  RenderSetup setup;                                           // camera, gate, spp and seed of the interior pass
+  std::vector<std::pair<uint32_t, glm::vec3>> lightPositions;  // point lights moved for this view
+  const ImageSet* adjoint = nullptr;
+};
+
+// What persists between the gradients of an optimisation: the accumulators and their scale (chosen
+// from the previous gradient's magnitude, so the fixed point keeps about 40 bits below the largest
+// entry; it is part of a checkpoint).
+struct AdjointState {
+  std::unique_ptr<GradientAccumulator> accumulator;
+  double scale = 0;  // 0: not chosen yet
+};
+
+struct LossGradient {
+  std::vector<double> theta;  // d loss / d θ for the model's parameters
+  SceneGradient scene;        // d loss / d scene quantities
+  GradientPlan plan;
+  RenderStats stats;
+  uint32_t attempts = 0;      // renders of the whole gradient (more than one when the scale was refined)
+};
+
+// d loss / d θ = sum over views and pixels of adjoint × d image / d θ, by adjoint renders of every
+// term the planner picks (options: terms, spp per term via sppBoundary / sppEdge; the interior term
+// uses each view's setup.settings.spp). `scene` must carry the ParameterModel of θ.
+LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
+                          const GradientOptions& options, AdjointState& state);
 
 FiniteDifferenceResult finiteDifference(Renderer& renderer, const Scene& scene, const std::string& parameter,
                                         double eps, const RenderOptions& options);

@@ -20,11 +20,13 @@ std::vector<char> readFileBytes(const std::filesystem::path& path) {
 
 }  // namespace
 
-PassPipelines::PassPipelines(const VulkanContext& context, const ShaderTable& shaders, std::filesystem::path cacheFile)
-    : m_context(context), m_shaders(shaders), m_cacheFile(std::move(cacheFile)) {
+PassPipelines::PassPipelines(const VulkanContext& context, const ShaderTable& shaders, std::filesystem::path cacheFile,
+                             uint32_t bindingCount)
+    : m_context(context), m_shaders(shaders), m_cacheFile(std::move(cacheFile)), m_bindingCount(bindingCount) {
+  if (bindingCount > gpu::kBindingCount) throw Error("internal: a pass layout has more bindings than BindingTable holds");
   VkDevice device = context.device();
   std::vector<VkDescriptorSetLayoutBinding> bindings;
-  for (uint32_t b = 0; b < gpu::kBindingCount; ++b) {
+  for (uint32_t b = 0; b < bindingCount; ++b) {
     VkDescriptorSetLayoutBinding binding{};
     binding.binding = b;
     binding.descriptorType = b == gpu::kBindingFrame ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -129,11 +131,12 @@ void BindingTable::setScene(const GpuScene& scene) {
   set(gpu::kBindingLights, scene.lights);
 }
 
-DescriptorSet::DescriptorSet(const VulkanContext& context, VkDescriptorSetLayout layout, const BindingTable& table,
+DescriptorSet::DescriptorSet(const VulkanContext& context, const PassPipelines& pipelines, const BindingTable& table,
                              const Buffer& dummy) {
   VkDevice device = context.device();
-  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                  {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, gpu::kBindingCount}};
+  const uint32_t count = pipelines.bindingCount();
+  VkDescriptorSetLayout layout = pipelines.setLayout();
+  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count}};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;
   poolInfo.poolSizeCount = 2;
@@ -149,7 +152,7 @@ DescriptorSet::DescriptorSet(const VulkanContext& context, VkDescriptorSetLayout
 
   std::array<VkDescriptorBufferInfo, gpu::kBindingCount> infos{};
   std::array<VkWriteDescriptorSet, gpu::kBindingCount> writes{};
-  for (uint32_t b = 0; b < gpu::kBindingCount; ++b) {
+  for (uint32_t b = 0; b < count; ++b) {
     infos[b] = {table.buffers[b] ? table.buffers[b] : dummy.handle(), 0, VK_WHOLE_SIZE};
     writes[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     writes[b].dstSet = m_set;
@@ -158,7 +161,7 @@ DescriptorSet::DescriptorSet(const VulkanContext& context, VkDescriptorSetLayout
     writes[b].descriptorType = b == gpu::kBindingFrame ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     writes[b].pBufferInfo = &infos[b];
   }
-  vkUpdateDescriptorSets(device, gpu::kBindingCount, writes.data(), 0, nullptr);
+  vkUpdateDescriptorSets(device, count, writes.data(), 0, nullptr);
 }
 
 std::filesystem::path defaultPipelineCacheFile(const VulkanContext& context) {

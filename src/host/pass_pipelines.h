@@ -1,5 +1,7 @@
-// The single descriptor-set layout and pipeline layout shared by every pass, compute pipelines
-// created on demand per (shader variant, specialisation constants), and descriptor sets.
+// A descriptor-set layout and pipeline layout shared by a family of passes (the render passes use
+// gpu::kBindingCount bindings, the scene-update passes gpu::kUpdateBindingCount; binding 0 is the
+// frame's uniform buffer, the rest storage buffers), compute pipelines created on demand per
+// (shader variant, specialisation constants), and descriptor sets.
 // Pipelines are cached on disk (VkPipelineCache) keyed by device, driver and vktg build.
 #pragma once
 #include <array>
@@ -17,7 +19,8 @@ using SpecValues = std::array<uint32_t, gpu::kSpecCount>;
 
 class PassPipelines {
  public:
-  PassPipelines(const VulkanContext& context, const ShaderTable& shaders, std::filesystem::path cacheFile = {});
+  PassPipelines(const VulkanContext& context, const ShaderTable& shaders, std::filesystem::path cacheFile = {},
+                uint32_t bindingCount = gpu::kBindingCount);
   ~PassPipelines();
   PassPipelines(const PassPipelines&) = delete;
   PassPipelines& operator=(const PassPipelines&) = delete;
@@ -25,11 +28,13 @@ class PassPipelines {
   VkPipeline get(const std::string& shader, const SpecValues& spec);
   VkPipelineLayout layout() const { return m_layout.get(); }
   VkDescriptorSetLayout setLayout() const { return m_setLayout.get(); }
+  uint32_t bindingCount() const { return m_bindingCount; }
 
  private:
   const VulkanContext& m_context;
   const ShaderTable& m_shaders;
   std::filesystem::path m_cacheFile;
+  uint32_t m_bindingCount;
   DescriptorSetLayout m_setLayout;
   PipelineLayout m_layout;
   PipelineCache m_cache;
@@ -47,7 +52,9 @@ struct BindingTable {
 
 class DescriptorSet {
  public:
-  DescriptorSet(const VulkanContext& context, VkDescriptorSetLayout layout, const BindingTable& table, const Buffer& dummy);
+  DescriptorSet(const VulkanContext& context, const PassPipelines& pipelines, const BindingTable& table, const Buffer& dummy);
+  DescriptorSet(DescriptorSet&&) = default;
+  DescriptorSet& operator=(DescriptorSet&&) = default;
   VkDescriptorSet get() const { return m_set; }
 
  private:

@@ -26,17 +26,17 @@ const char* neeModeName(NeeMode mode) {
   return "?";
 }
 
-RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode requested) {
+RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, NeeMode requested) {
   RenderPlan plan;
-  const Gate& gate = scene.gate;
+  const Gate& gate = setup.gate;
   plan.layers = gate.layers();
   plan.gateWidth = gate.width();
   plan.pathSpread = std::max(double(glm::length(prepared.boundsMax - prepared.boundsMin)), 1e-9);
-  plan.firstEllipsoidVertex = firstEllipsoidVertex(scene.camera.type);
+  plan.firstEllipsoidVertex = firstEllipsoidVertex(setup.camera.type);
   bool fromScene = requested == NeeMode::Auto;
-  NeeMode mode = fromScene ? scene.render.nee : requested;
+  NeeMode mode = fromScene ? setup.settings.nee : requested;
   // Name where the choice came from: the scene file's render.nee or the --nee option.
-  std::string file = fromScene ? scene.source.string() : "";
+  std::string file = fromScene ? setup.source : "";
   std::string field = fromScene ? "render.nee" : "--nee";
   if ((mode == NeeMode::Ellipsoidal || mode == NeeMode::Mis) && gate.type == GateType::Steady)
     fail(file, field, std::string(neeModeName(mode)) +
@@ -69,7 +69,7 @@ RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode
                                   gate.supportMax(), gate.supportMin()));
   else
     plan.reasons.push_back(format("steady gate: paths end by Russian roulette from depth %.0f or at max depth %.0f",
-                                  scene.render.rouletteDepth, scene.render.maxDepth));
+                                  setup.settings.rouletteDepth, setup.settings.maxDepth));
   std::string materials;
   const char* names[] = {"diffuse", "conductor", "dielectric"};
   for (uint32_t t = 0; t < 3; ++t)

@@ -9,6 +9,17 @@
 
 namespace vktg {
 
+// What one render sees besides the device-resident scene: the camera, the gate and the render
+// settings (a target of an optimisation may override the scene's), and the file they came from.
+struct RenderSetup {
+  Camera camera;
+  Gate gate;
+  RenderSettings settings;
+  std::string source;
+
+  static RenderSetup of(const Scene& scene) { return {scene.camera, scene.gate, scene.render, scene.source.string()}; }
+};
+
 struct RenderPlan {
   NeeMode nee = NeeMode::Standard;    // Standard or Ellipsoidal after planning
   uint32_t firstEllipsoidVertex = 1;  // 0 at a point sensor, 1 behind a pinhole
@@ -28,7 +39,7 @@ inline uint32_t firstEllipsoidVertex(CameraType camera) { return camera == Camer
 
 // `requested` overrides the scene's setting unless Auto. Throws vktg::Error for impossible
 // requests (ellipsoidal NEE with a steady gate).
-RenderPlan planRender(const Scene& scene, const PreparedScene& prepared, NeeMode requested);
+RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, NeeMode requested);
 std::string explainPlan(const RenderPlan& plan);
 const char* neeModeName(NeeMode mode);
 

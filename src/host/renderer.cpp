@@ -3,13 +3,14 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "host/frame_uniforms.h"
+#include "host/interrupt.h"
 #include "host/pass_pipelines.h"
 #include "host/pass_profiler.h"
 #include "host/wavefront.h"
 #include "vktg/error.h"
-#include "vktg/silhouette_edges.h"
 
 namespace vktg {
 namespace {
@@ -22,9 +23,7 @@ void pushArgs(VkCommandBuffer cmd, VkPipelineLayout layout, uint32_t x, uint32_t
 uint32_t groupsFor(uint64_t items) { return uint32_t((items + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize); }
 
 // What each derivative lane differentiates, in GPU terms.
-std::vector<gpu::GpuLane> laneTable(const std::vector<ParameterBinding>& bindings, const PreparedScene& prepared,
-                                    const Scene& scene) {
-  uint32_t firstPointLight = uint32_t(prepared.lights.size() - scene.pointLights.size());
+std::vector<gpu::GpuLane> laneTable(const std::vector<ParameterBinding>& bindings, uint32_t firstPointLight) {
   std::vector<gpu::GpuLane> lanes;
   for (const ParameterBinding& b : bindings) {
     gpu::GpuLane lane{};
@@ -48,14 +47,46 @@ std::vector<gpu::GpuLane> laneTable(const std::vector<ParameterBinding>& binding
   return lanes;
 }
 
-// Vertices any lane moves: the edge pass puts extra selection mass on their edges.
-std::vector<bool> movingVertices(const std::vector<ParameterBinding>& bindings, size_t vertexCount) {
+// Vertices any lane moves (the edge pass puts extra selection mass on their edges), or only those a
+// displacement moves (`deformingOnly`: their flat creases can fold).
+std::vector<bool> movingVertices(const std::vector<ParameterBinding>& bindings, size_t vertexCount, bool deformingOnly) {
   std::vector<bool> moving(vertexCount, false);
-  for (const ParameterBinding& b : bindings)
+  for (const ParameterBinding& b : bindings) {
+    if (deformingOnly && b.kind != ParameterKind::Displace) continue;
     for (size_t v = 0; v < b.vertexVelocity.size() && v < vertexCount; ++v)
       if (b.vertexVelocity[v] != glm::vec3(0.0f)) moving[v] = true;
+  }
   return moving;
 }
+
+template <class T>
+Buffer uploaded(const VulkanContext& context, const std::vector<T>& data, const std::string& name) {
+  Buffer buffer(context, std::max<size_t>(16, data.size() * sizeof(T)), MemoryKind::Device, name);
+  buffer.upload(context, data.data(), data.size() * sizeof(T));
+  return buffer;
+}
+
+// The per-path buffers a render of one kind and size needs; kept between renders of the same kind.
+struct FrameResources {
+  struct Key {
+    uint32_t batchSize = 0, layers = 0, lanes = 0, tapeVertices = 0;
+    bool shadowAdjoint = false, edgeRecords = false;
+    bool operator==(const Key&) const = default;
+  };
+  FrameResources(const VulkanContext& context, const Key& k)
+      : key(k), wave(context, k.batchSize, k.layers, k.lanes),
+        tape(context, std::max<uint64_t>(16, uint64_t(k.batchSize) * k.tapeVertices * sizeof(gpu::TapeVertex)),
+             MemoryKind::Device, "adjoint.tape"),
+        shadowAdjoint(context,
+                      k.shadowAdjoint ? uint64_t(k.batchSize) * gpu::kShadowRaysPerPath * sizeof(gpu::ShadowAdjoint) : 16,
+                      MemoryKind::Device, "adjoint.shadow"),
+        edgeRecords(context, k.edgeRecords ? uint64_t(k.batchSize) * sizeof(gpu::EdgeRecord) : 16, MemoryKind::Device,
+                    "edges.records") {}
+  uint64_t bytes() const { return wave.bytes() + tape.size() + shadowAdjoint.size() + edgeRecords.size(); }
+  Key key;
+  WavefrontBuffers wave;
+  Buffer tape, shadowAdjoint, edgeRecords;
+};
 
 }  // namespace
 
@@ -66,86 +97,151 @@ struct Renderer::Impl {
   VulkanContext& context;
   PassPipelines pipelines;
   Buffer dummy;
+  std::unique_ptr<FrameResources> frame;
+  std::optional<ChunkedBuffer> film;
+  uint64_t filmFloats = 0;
+
+  FrameResources& frameResources(const FrameResources::Key& key) {
+    if (!frame || !(frame->key == key)) {
+      frame.reset();  // free the old buffers before allocating the new ones
+      frame = std::make_unique<FrameResources>(context, key);
+    }
+    return *frame;
+  }
+  ChunkedBuffer& filmFor(uint64_t floats) {
+    if (!film || filmFloats != floats) {
+      film.reset();
+      film = allocateChunked(context, sizeof(float), floats, "film");
+      filmFloats = floats;
+    }
+    return *film;
+  }
 };
 
 Renderer::Renderer(VulkanContext& context) : m_impl(std::make_unique<Impl>(context)) {}
 Renderer::~Renderer() = default;
+VulkanContext& Renderer::context() const { return m_impl->context; }
 
 RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) {
+  DeviceScene deviceScene(m_impl->context, scene);
+  return render(deviceScene, RenderSetup::of(scene), options);
+}
+
+RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup, const RenderOptions& options) {
   VulkanContext& context = m_impl->context;
   PassPipelines& pipelines = m_impl->pipelines;
+  const PreparedScene& prepared = deviceScene.prepared();
+  const GpuScene& gpuScene = deviceScene.gpu();
   RenderResult result;
-  PreparedScene prepared = prepareScene(scene);
-  result.plan = planRender(scene, prepared, options.nee);
+  result.plan = planRender(setup, prepared, options.nee);
   const RenderPlan& plan = result.plan;
-  GpuScene gpuScene(context, prepared);
+  const RenderSettings& settings = setup.settings;
 
+  const AdjointTarget* adjoint = options.adjoint;
   const uint32_t layers = plan.layers;
-  const uint32_t lanes = uint32_t(options.derivativeLanes.size());
+  const uint32_t lanes = adjoint ? 0u : uint32_t(options.derivativeLanes.size());
   const uint32_t channels = 1 + lanes;
   if (lanes > kMaxDerivativeLanes) throw Error("internal: more derivative lanes than kMaxDerivativeLanes");
-  const uint32_t width = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.width;
-  const uint32_t height = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.height;
+  if (adjoint && !options.derivativeLanes.empty()) throw Error("internal: an adjoint render has no lanes");
+  if (adjoint && (!adjoint->image || !adjoint->gradient || !deviceScene.model()))
+    throw Error("internal: an adjoint render needs an adjoint image, accumulators and a parameter model");
+  const bool derivative = lanes > 0 || adjoint;
+  const uint32_t width = setup.camera.type == CameraType::PointSensor ? 1 : setup.camera.width;
+  const uint32_t height = setup.camera.type == CameraType::PointSensor ? 1 : setup.camera.height;
   const uint64_t pixels = uint64_t(width) * height;
   // The edge term counts edge samples (each owns two path slots); the others count paths.
-  const uint64_t totalPaths = pixels * scene.render.spp;
+  const uint64_t totalPaths = pixels * settings.spp;
   const bool edges = options.edges, fromCamera = options.pathLengthFromCamera;
   // Splatted samples (edge term, path-length boundary from the camera) own two path slots each and
   // land in the pixels their camera connections reach.
   const bool splat = edges || fromCamera;
   const uint32_t slotsPerSample = splat ? 2 : 1;
-  if (edges && (lanes == 0 || options.pathLengthBoundary))
-    throw Error("internal: the edge term needs derivative lanes and excludes the path-length-boundary term");
+  if (edges && (!derivative || options.pathLengthBoundary))
+    throw Error("internal: the edge term needs derivatives and excludes the path-length-boundary term");
   if (fromCamera && !options.pathLengthBoundary)
     throw Error("internal: path-length-boundary connections from the camera belong to that term");
+  if (options.pathLengthBoundary && (!derivative || !setup.gate.hasJumps()))
+    throw Error("internal: the path-length-boundary term needs derivatives and a gate with jumps");
   if (splat && totalPaths >= (uint64_t(1) << 32))
     throw Error(std::string(edges ? "--spp-edge: " : "--spp-boundary: ") + std::to_string(totalPaths) +
                 " splatted samples are too many for one render");
-  if (pixels * scene.render.spp > (uint64_t(1) << 32) * 8)
+  if (pixels * settings.spp > (uint64_t(1) << 32) * 8)
     throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
 
-  const uint64_t filmElements = pixels * layers * channels;
+  // An adjoint render produces no image: its film stays empty.
+  const uint64_t filmElements = adjoint ? 0 : pixels * layers * channels;
   // kFilmFloatsPerElement floats per element (shift, compensated sums; see shared.h).
-  const uint64_t filmFloats = gpu::kFilmFloatsPerElement * filmElements;
-  ChunkedBuffer film = allocateChunked(context, sizeof(float), filmFloats, "film");
-  uint64_t filmBytes = filmFloats * sizeof(float);
+  const uint64_t filmFloats = std::max<uint64_t>(gpu::kFilmFloatsPerElement, gpu::kFilmFloatsPerElement * filmElements);
+  const uint64_t filmBytes = filmFloats * sizeof(float);
   if (filmBytes + gpuScene.bytes >= options.memoryBudget)
     throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the film (" +
                 std::to_string(filmBytes >> 20) + " MiB) and the scene (" + std::to_string(gpuScene.bytes >> 20) +
                 " MiB); raise it");
-  const std::vector<gpu::GpuEdge> edgeList =
-      edges ? silhouetteEdges(prepared, movingVertices(options.derivativeLanes, prepared.vertices.size()))
-            : std::vector<gpu::GpuEdge>{};
-  Buffer edgeBuffer(context, std::max<size_t>(16, edgeList.size() * sizeof(gpu::GpuEdge)), MemoryKind::Device, "scene.edges");
-  edgeBuffer.upload(context, edgeList.data(), edgeList.size() * sizeof(gpu::GpuEdge));
-  const uint32_t batchSize =
-      batchSizeFor(options.memoryBudget - filmBytes - gpuScene.bytes - edgeBuffer.size(), layers, lanes,
-                   context.properties().limits.maxStorageBufferRange, totalPaths * slotsPerSample,
-                   context.properties().limits.maxComputeWorkGroupCount[0]);
-  const uint32_t samplesPerBatch = batchSize / slotsPerSample;
-  WavefrontBuffers wave(context, batchSize, layers, lanes);
-  // Derivative inputs: per-lane vertex velocities and what each lane differentiates.
-  std::vector<glm::vec4> velocities(std::max<size_t>(1, size_t(lanes) * prepared.vertices.size()), glm::vec4(0.0f));
-  for (uint32_t k = 0; k < lanes; ++k)
-    for (size_t v = 0; v < options.derivativeLanes[k].vertexVelocity.size(); ++v)
-      velocities[k * prepared.vertices.size() + v] = glm::vec4(options.derivativeLanes[k].vertexVelocity[v], 0.0f);
-  Buffer velocityBuffer(context, velocities.size() * sizeof(glm::vec4), MemoryKind::Device, "derivative.vertexVelocity");
-  velocityBuffer.upload(context, velocities.data(), velocities.size() * sizeof(glm::vec4));
-  std::vector<gpu::GpuLane> laneInfo = laneTable(options.derivativeLanes, prepared, scene);
-  if (laneInfo.empty()) laneInfo.emplace_back();
-  Buffer laneBuffer(context, laneInfo.size() * sizeof(gpu::GpuLane), MemoryKind::Device, "derivative.lanes");
-  laneBuffer.upload(context, laneInfo.data(), laneInfo.size() * sizeof(gpu::GpuLane));
+  ChunkedBuffer& film = m_impl->filmFor(filmFloats);
+  const Buffer* edgeBuffer = nullptr;
+  if (edges) {
+    const size_t vertexCount = prepared.vertices.size();
+    std::vector<bool> moving = adjoint ? deviceScene.model()->movingVertices()
+                                       : movingVertices(options.derivativeLanes, vertexCount, false);
+    std::vector<bool> deforming = adjoint ? deviceScene.model()->deformingVertices()
+                                          : movingVertices(options.derivativeLanes, vertexCount, true);
+    edgeBuffer = &deviceScene.edges(moving, deforming);
+  }
+  const uint32_t edgeCount = edges ? deviceScene.edgeCount() : 0u;
 
-  gpu::FrameUniforms frame = sceneFrameUniforms(scene, prepared, gpuScene);
-  setGateUniforms(frame, scene.gate, options.gateCutoff);
+  // Per-path state beyond the wavefront: the adjoint's tape and connection records, edge records.
+  FrameResources::Key key;
+  key.layers = layers;
+  key.lanes = lanes;
+  key.tapeVertices = adjoint && !splat ? settings.maxDepth + 1 : 0;
+  key.shadowAdjoint = adjoint && !edges;
+  key.edgeRecords = edges;
+  ExtraPathState extra;
+  extra.bytes = uint64_t(key.tapeVertices) * sizeof(gpu::TapeVertex) +
+                (key.shadowAdjoint ? gpu::kShadowRaysPerPath * sizeof(gpu::ShadowAdjoint) : 0) +
+                (key.edgeRecords ? sizeof(gpu::EdgeRecord) : 0);
+  extra.largestBuffer = std::max<uint64_t>({uint64_t(key.tapeVertices) * sizeof(gpu::TapeVertex),
+                                            key.shadowAdjoint ? gpu::kShadowRaysPerPath * sizeof(gpu::ShadowAdjoint) : 0,
+                                            key.edgeRecords ? sizeof(gpu::EdgeRecord) : 0});
+  const uint64_t edgeBytes = edgeBuffer ? edgeBuffer->size() : 0;
+  if (filmBytes + gpuScene.bytes + edgeBytes >= options.memoryBudget)
+    throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the scene's edges; raise it");
+  key.batchSize = batchSizeFor(options.memoryBudget - filmBytes - gpuScene.bytes - edgeBytes, layers, lanes,
+                               context.properties().limits.maxStorageBufferRange, totalPaths * slotsPerSample,
+                               context.properties().limits.maxComputeWorkGroupCount[0], extra);
+  const uint32_t batchSize = key.batchSize;
+  const uint32_t samplesPerBatch = batchSize / slotsPerSample;
+  FrameResources& resources = m_impl->frameResources(key);
+  WavefrontBuffers& wave = resources.wave;
+
+  // Forward-mode inputs: per-lane vertex velocities and what each lane differentiates.
+  std::optional<Buffer> velocityBuffer, laneBuffer;
+  if (lanes > 0) {
+    std::vector<glm::vec4> velocities(std::max<size_t>(1, size_t(lanes) * prepared.vertices.size()), glm::vec4(0.0f));
+    for (uint32_t k = 0; k < lanes; ++k)
+      for (size_t v = 0; v < options.derivativeLanes[k].vertexVelocity.size(); ++v)
+        velocities[k * prepared.vertices.size() + v] = glm::vec4(options.derivativeLanes[k].vertexVelocity[v], 0.0f);
+    velocityBuffer = uploaded(context, velocities, "derivative.vertexVelocity");
+    const uint32_t firstPointLight = uint32_t(prepared.lights.size() - deviceScene.scene().pointLights.size());
+    laneBuffer = uploaded(context, laneTable(options.derivativeLanes, firstPointLight), "derivative.lanes");
+  }
+
+  gpu::FrameUniforms frame = sceneFrameUniforms(setup.camera, settings, prepared, gpuScene);
+  setGateUniforms(frame, setup.gate, options.gateCutoff);
   frame.gateInfo.z = plan.nee == NeeMode::Ellipsoidal ? gpu::kNeeEllipsoidal
                      : plan.nee == NeeMode::Mis     ? gpu::kNeeMis
                                                     : gpu::kNeeStandard;
-  frame.pathInfo = glm::uvec4(scene.render.rouletteDepth, plan.firstEllipsoidVertex, channels, batchSize);
+  frame.pathInfo = glm::uvec4(settings.rouletteDepth, plan.firstEllipsoidVertex, channels, batchSize);
   frame.chunkShift.z = film.shift;
-  frame.edgeInfo = glm::uvec4(uint32_t(edgeList.size()), edges ? uint32_t(totalPaths) : 0u, 0, 0);
+  frame.edgeInfo = glm::uvec4(edgeCount, edges ? uint32_t(totalPaths) : 0u, 0, 0);
   // resolve divides by the samples every pixel's sums saw: a splatted sample counts in every pixel.
   if (splat) frame.image.z = uint32_t(totalPaths);
+  if (adjoint) {
+    const GradientLayout& g = adjoint->gradient->layout();
+    frame.gradientLayout = glm::uvec4(g.materials, g.emission, g.lights, g.vertices);
+    frame.adjointInfo = glm::uvec4(g.firstPointLight, 0, 0, 0);
+    frame.adjointScale = glm::vec4(float(adjoint->scale), 0, 0, 0);
+  }
   Buffer frameBuffer(context, sizeof frame, MemoryKind::Device, "frame");
   frameBuffer.upload(context, &frame, sizeof frame);
 
@@ -160,43 +256,54 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   table.set(gpu::kBindingDispatchArgs, wave.dispatchArgs);
   table.set(gpu::kBindingPathAccum, wave.pathAccum);
   table.setChunks(gpu::kBindingFilm, film);
-  table.set(gpu::kBindingVertexVelocity, velocityBuffer);
-  table.set(gpu::kBindingLanes, laneBuffer);
-  table.set(gpu::kBindingPathDerivs, wave.pathDerivs);
-  table.set(gpu::kBindingShadowDerivs, wave.shadowDerivs);
-  table.set(gpu::kBindingEdges, edgeBuffer);
-  DescriptorSet set(context, pipelines.setLayout(), table, m_impl->dummy);
+  if (edgeBuffer) table.set(gpu::kBindingEdges, *edgeBuffer);
+  // Bindings 25-28: the meaning this kind of render gives them (shared.h).
+  if (lanes > 0) {
+    table.set(gpu::kBindingVertexVelocity, *velocityBuffer);
+    table.set(gpu::kBindingLanes, *laneBuffer);
+    table.set(gpu::kBindingPathDerivs, wave.pathDerivs);
+    table.set(gpu::kBindingShadowDerivs, wave.shadowDerivs);
+  }
+  if (adjoint) {
+    table.set(gpu::kBindingAdjointImage, *adjoint->image);
+    table.set(gpu::kBindingGradient, adjoint->gradient->buffer());
+    table.set(gpu::kBindingTape, resources.tape);
+    table.set(gpu::kBindingShadowAdjoint, resources.shadowAdjoint);
+  }
+  if (edges) table.set(gpu::kBindingEdgeRecords, resources.edgeRecords);
+  DescriptorSet set(context, pipelines, table, m_impl->dummy);
 
   SpecValues spec{};
   spec[gpu::kSpecMaterialMask] = prepared.materialMask;
   spec[gpu::kSpecNeeMode] = frame.gateInfo.z;
-  spec[gpu::kSpecGateType] = uint32_t(scene.gate.type);
-  spec[gpu::kSpecCameraType] = uint32_t(scene.camera.type);
+  spec[gpu::kSpecGateType] = uint32_t(setup.gate.type);
+  spec[gpu::kSpecCameraType] = uint32_t(setup.camera.type);
   spec[gpu::kSpecLightMask] = prepared.lightMask;
   spec[gpu::kSpecLanes] = std::max(lanes, 1u);
   spec[gpu::kSpecTerm] = options.pathLengthBoundary ? gpu::kTermPathLength : gpu::kTermInterior;
   spec[gpu::kSpecAntithetic] = options.antithetic ? 1u : 0u;
-  if (options.pathLengthBoundary && (lanes == 0 || !scene.gate.hasJumps()))
-    throw Error("internal: the path-length-boundary term needs derivative lanes and a gate with jumps");
-  // The derivative variants carry the lanes; passes without derivative work are shared. The edge
-  // term's light sides are plain paths (their lanes are factors sample_edges set).
-  const std::string variant = lanes > 0 && !edges ? "_d" : "";
+  spec[gpu::kSpecAdjointTargets] = adjoint ? adjoint->targets : 0u;
+  // The derivative variants carry the lanes or the adjoint; passes without derivative work are
+  // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
+  const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";
   const std::string shadeName = "shade" + variant, shadowName = "trace_shadow_rays" + variant;
   const std::string generateName = edges        ? "sample_edges"
-                                   : fromCamera ? "connect_camera_boundary"
+                                   : fromCamera ? "connect_camera_boundary" + std::string(adjoint ? "_adj" : "")
                                                 : "generate_camera_rays" + variant;
-  const std::string accumulateName = splat ? "accumulate_splats" : "accumulate";
+  // What finishes a batch: film accumulation (forward) or the adjoint's last step.
+  const std::string finishName = adjoint ? (edges ? "scatter_edges" : fromCamera ? "" : "backprop_paths")
+                                         : (splat ? "accumulate_splats" : "accumulate");
   VkPipeline generate = pipelines.get(generateName, spec);
   VkPipeline intersect = pipelines.get("intersect_closest", spec);
   VkPipeline shade = pipelines.get(shadeName, spec);
   VkPipeline shadow = pipelines.get(shadowName, spec);
   VkPipeline setArgs = pipelines.get("set_dispatch_args", spec);
-  VkPipeline accumulate = pipelines.get(accumulateName, spec);
-  VkPipeline resolve = pipelines.get("resolve", spec);
+  VkPipeline finish = finishName.empty() ? VK_NULL_HANDLE : pipelines.get(finishName, spec);
+  VkPipeline resolve = adjoint ? VK_NULL_HANDLE : pipelines.get("resolve", spec);
   VkPipelineLayout layout = pipelines.layout();
   VkDescriptorSet ds = set.get();
 
-  const uint32_t maxDepth = scene.render.maxDepth;
+  const uint32_t maxDepth = settings.maxDepth;
   PassProfiler profiler(context, 8 + 6 * maxDepth);
   CommandBuffer cmdBuffer(context, "render batch");
   VkCommandBuffer cmd = cmdBuffer.get();
@@ -219,6 +326,12 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     vkCmdFillBuffer(cmd, wave.counters.handle(), counter * sizeof(uint32_t), sizeof(uint32_t), 0);
     computeBarrier(cmd);
   };
+  auto traceShadowRays = [&] {
+    pushArgs(cmd, layout, gpu::kCounterShadow, gpu::kArgsShadow, gpu::kCounterCount, 0);
+    dispatch("set_dispatch_args", setArgs, 1);
+    dispatchIndirect(shadowName.c_str(), shadow, gpu::kArgsShadow);
+    zeroCounter(gpu::kCounterShadow);
+  };
 
   // Statistics counters accumulate over all batches: zero them once.
   {
@@ -233,6 +346,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   auto start = std::chrono::steady_clock::now();
   uint64_t done = 0;
   while (done < totalPaths) {
+    throwIfInterrupted();
     uint32_t active = uint32_t(std::min<uint64_t>(samplesPerBatch, totalPaths - done));
     uint32_t firstSample = uint32_t(done / pixels);
     uint32_t firstLinear = uint32_t(done - uint64_t(firstSample) * pixels);
@@ -246,12 +360,6 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     computeBarrier(cmd);
     pushArgs(cmd, layout, splat ? uint32_t(done) : firstLinear, firstSample, 0, active);
     dispatch(generateName.c_str(), generate, groupsFor(active));
-    auto traceShadowRays = [&] {
-      pushArgs(cmd, layout, gpu::kCounterShadow, gpu::kArgsShadow, gpu::kCounterCount, 0);
-      dispatch("set_dispatch_args", setArgs, 1);
-      dispatchIndirect(shadowName.c_str(), shadow, gpu::kArgsShadow);
-      zeroCounter(gpu::kCounterShadow);
-    };
     // connect_camera_boundary queues complete connections: no rays to extend.
     if (fromCamera) traceShadowRays();
     for (uint32_t depth = 0; depth < (fromCamera ? 0 : maxDepth); ++depth) {
@@ -265,15 +373,18 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
       dispatchIndirect(shadeName.c_str(), shade, gpu::kArgsRays);
       traceShadowRays();
     }
-    if (splat) {
-      pushArgs(cmd, layout, 0, 0, 0, active);
-      dispatch("accumulate_splats", accumulate, groupsFor(uint64_t(active) * layers * lanes));
-    } else {
+    if (finishName == "accumulate") {
       uint64_t pathsPerPixel = (active + pixels - 1) / pixels;
       for (uint32_t round = 0; uint64_t(round) * gpu::kPathsPerRound < pathsPerPixel; ++round) {
         pushArgs(cmd, layout, firstLinear, round, result.stats.batches, active);
-        dispatch("accumulate", accumulate, groupsFor(filmElements));
+        dispatch("accumulate", finish, groupsFor(filmElements));
       }
+    } else if (finishName == "accumulate_splats") {
+      pushArgs(cmd, layout, 0, 0, 0, active);
+      dispatch("accumulate_splats", finish, groupsFor(uint64_t(active) * layers * lanes));
+    } else if (finish != VK_NULL_HANDLE) {
+      pushArgs(cmd, layout, 0, 0, 0, active * slotsPerSample);
+      dispatch(finishName.c_str(), finish, groupsFor(uint64_t(active) * slotsPerSample));
     }
     cmdBuffer.end();
     context.submitAndWait(cmd);
@@ -282,7 +393,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     result.stats.batches++;
     if (options.progress) options.progress(double(done) / double(totalPaths));
   }
-  {
+  if (resolve != VK_NULL_HANDLE) {
     cmdBuffer.begin();
     profiler.reset(cmd);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &ds, 0, nullptr);
@@ -308,10 +419,12 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   stats.ellipsoidEmpty = counters[gpu::kCounterEllipsoidEmpty];
   stats.edgeSilhouettes = counters[gpu::kCounterEdgeSilhouettes];
   stats.edgeConnected = counters[gpu::kCounterEdgeConnected];
-  stats.silhouetteEdges = edgeList.size();
+  stats.gradientOverflows = counters[gpu::kCounterGradientOverflow];
+  stats.silhouetteEdges = edgeCount;
   stats.batchSize = batchSize;
-  stats.deviceBytes = gpuScene.bytes + wave.bytes() + filmBytes;
+  stats.deviceBytes = gpuScene.bytes + resources.bytes() + filmBytes + edgeBytes;
   result.passMilliseconds = profiler.millisecondsPerPass();
+  if (adjoint) return result;
 
   std::vector<float> resolved(filmFloats), mean(filmElements), variance(filmElements);
   size_t perChunk = size_t(1) << film.shift;
@@ -323,10 +436,6 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   for (size_t i = 0; i < filmElements; ++i) {
     mean[i] = resolved[gpu::kFilmFloatsPerElement * i];
     variance[i] = resolved[gpu::kFilmFloatsPerElement * i + 1];
-  }
-  for (ImageSet* set : {&result.mean, &result.variance}) {
-    set->width = width;
-    set->height = height;
   }
   // Film element (channel * layers + layer) * pixels + pixel: channel 0 the image, then the lanes.
   auto layerOf = [&](const std::vector<float>& data, uint32_t channel, uint32_t layer) {
@@ -341,7 +450,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     m.width = v.width = width;
     m.height = v.height = height;
     for (uint32_t k = 0; k < layers; ++k) {
-      std::string name = scene.gate.layerName(k);
+      std::string name = setup.gate.layerName(k);
       m.layers.push_back({name, layerOf(mean, c, k)});
       v.layers.push_back({name, layerOf(variance, c, k)});
     }

@@ -1,5 +1,8 @@
-// The forward renderer: a wavefront path tracer over batches of paths sized from a memory budget.
-// One command buffer per batch runs every bounce (indirect dispatches from queue counters).
+// The renderer: a wavefront path tracer over batches of paths sized from a memory budget, on a
+// device-resident scene (DeviceScene). One command buffer per batch runs every bounce (indirect
+// dispatches from queue counters). A render computes one of the terms of THEORY.md §3 (or the
+// image alone), either as forward-mode derivative images (lanes) or, given an adjoint image, as the
+// gradient of a loss accumulated on the device (AdjointTarget, THEORY.md §7).
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -7,6 +10,8 @@
 #include <memory>
 #include <string>
 
+#include "host/adjoint.h"
+#include "host/device_scene.h"
 #include "host/planner.h"
 #include "host/vk_context.h"
 #include "vktg/image_io.h"
@@ -15,22 +20,33 @@
 
 namespace vktg {
 
+// The adjoint form of a render: instead of derivative images, every sample adds
+// (d loss / d I of its pixel) × (its contribution's derivative) into `gradient`.
+struct AdjointTarget {
+  const Buffer* image = nullptr;  // d loss / d I: float[layer * pixels + pixel] of this render's camera and gate
+  GradientAccumulator* gradient = nullptr;
+  double scale = 1;               // accumulators add round(value * scale); a power of two
+  uint32_t targets = 0;           // kAdjoint* bits: what to differentiate
+};
+
 struct RenderOptions {
   NeeMode nee = NeeMode::Auto;              // overrides the scene's render.nee unless Auto
   uint64_t memoryBudget = 512ull << 20;     // bytes for wavefront state + film (`--mem`)
   bool gateCutoff = true;                   // end paths whose length passed the gate (bench compares)
   std::function<void(double)> progress;     // fraction done, after every batch
   // Non-empty: the derivative variants of the passes also compute d image / d θ for these
-  // parameters (the interior term, forward mode), at most kMaxDerivativeLanes at once.
+  // parameters (forward mode), at most kMaxDerivativeLanes at once.
   std::vector<ParameterBinding> derivativeLanes;
-  // Which derivative term the lanes compute: the interior term, or the path-length-boundary
+  // Or the adjoint form (no lanes, no image).
+  const AdjointTarget* adjoint = nullptr;
+  // Which term the render computes: the interior term (default), or the path-length-boundary
   // term of the gate's jumps (then the image channel stays zero).
   bool pathLengthBoundary = false;
   // With pathLengthBoundary: that term's share of the paths the per-pixel pass cannot place on a
   // jump, camera -> x1 -> light behind a pinhole and camera -> emitter (connect_camera_boundary:
-  // connections from the camera, splatted; scene.render.spp samples per pixel on average).
+  // connections from the camera, splatted; settings.spp samples per pixel on average).
   bool pathLengthFromCamera = false;
-  // Or the visibility-boundary (edge) term: scene.render.spp edge samples per pixel on average
+  // Or the visibility-boundary (edge) term: settings.spp edge samples per pixel on average
   // (sample_edges), splatted into the pixels their camera connections reach.
   bool edges = false;
   // Antithetic pairs (THEORY.md §5): ellipsoidal connections at s and 2 mu - s (gaussian gates);
@@ -49,13 +65,14 @@ struct RenderStats {
   // Edge term: silhouette-capable edges, samples whose direction made their edge a silhouette,
   // and of those the ones whose boundary segment reached the camera.
   uint64_t silhouetteEdges = 0, edgeSilhouettes = 0, edgeConnected = 0;
+  uint64_t gradientOverflows = 0;  // adjoint scatters beyond the accumulators' range
   uint32_t batches = 0, batchSize = 0;
   uint64_t deviceBytes = 0;  // scene + wavefront + film
   double seconds = 0;        // wall time of the batches (excludes pipeline creation)
 };
 
 struct RenderResult {
-  ImageSet mean;      // one layer per gate layer
+  ImageSet mean;      // one layer per gate layer (empty for an adjoint render)
   ImageSet variance;  // variance of each pixel's mean (its squared standard error)
   // Per derivative lane (RenderOptions::derivativeLanes): d mean / d θ and its variance.
   std::vector<ImageSet> derivatives;
@@ -69,7 +86,11 @@ class Renderer {
  public:
   explicit Renderer(VulkanContext& context);
   ~Renderer();
+  // A render of `scene` as `setup` sees it.
+  RenderResult render(DeviceScene& scene, const RenderSetup& setup, const RenderOptions& options);
+  // A render of a scene uploaded for this render alone.
   RenderResult render(const Scene& scene, const RenderOptions& options);
+  VulkanContext& context() const;
 
  private:
   struct Impl;

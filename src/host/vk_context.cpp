@@ -75,13 +75,15 @@ std::string versionString(uint32_t v) {
 DeviceReport describeDevice(VkPhysicalDevice device, uint32_t index) {
   DeviceReport r;
   r.index = index;
-  VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+  VkPhysicalDeviceVulkan12Features vulkan12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
+                                                       &vulkan12};
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &atomics};
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
   VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES, &driver};
   VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &subgroup};
   bool atomicExt = hasExtension(device, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
-  if (!atomicExt) features.pNext = nullptr;
+  if (!atomicExt) features.pNext = &vulkan12;
   vkGetPhysicalDeviceFeatures2(device, &features);
   vkGetPhysicalDeviceProperties2(device, &props);
   const VkPhysicalDeviceLimits& limits = props.properties.limits;
@@ -97,6 +99,7 @@ DeviceReport describeDevice(VkPhysicalDevice device, uint32_t index) {
   r.timestampPeriodNs = limits.timestampPeriod;
   r.floatAtomicAdd = atomicExt && atomics.shaderBufferFloat32AtomicAdd;
   r.subgroupArithmetic = (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT) != 0;
+  r.int64Atomics = features.features.shaderInt64 && vulkan12.shaderBufferInt64Atomics;
   VkPhysicalDeviceMemoryProperties memory;
   vkGetPhysicalDeviceMemoryProperties(device, &memory);
   for (uint32_t i = 0; i < memory.memoryHeapCount; ++i)
@@ -105,6 +108,8 @@ DeviceReport describeDevice(VkPhysicalDevice device, uint32_t index) {
   std::vector<std::string> missing;
   if (props.properties.apiVersion < VK_API_VERSION_1_2) missing.push_back("Vulkan 1.2");
   if (!r.floatAtomicAdd) missing.push_back("VK_EXT_shader_atomic_float (shaderBufferFloat32AtomicAdd)");
+  // The adjoint passes' gradient accumulators are 64-bit integers (host/adjoint.h).
+  if (!r.int64Atomics) missing.push_back("64-bit integer atomics (shaderInt64, shaderBufferInt64Atomics)");
   if (computeQueueFamily(device) < 0) missing.push_back("a compute queue with timestamps");
   if (limits.maxPerStageDescriptorStorageBuffers < gpu::kBindingCount) missing.push_back("enough storage-buffer bindings");
   for (const auto& m : missing) r.missing += (r.missing.empty() ? "" : ", ") + m;
@@ -224,9 +229,13 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     queueInfo.queueFamilyIndex = m_queueFamily;
     queueInfo.queueCount = 1;
     queueInfo.pQueuePriorities = &priority;
-    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT};
+    VkPhysicalDeviceVulkan12Features vulkan12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    vulkan12.shaderBufferInt64Atomics = VK_TRUE;
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
+                                                         &vulkan12};
     atomics.shaderBufferFloat32AtomicAdd = VK_TRUE;
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &atomics};
+    features.features.shaderInt64 = VK_TRUE;
     const char* extensions[] = {VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME};
     VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &features};
     deviceInfo.queueCreateInfoCount = 1;

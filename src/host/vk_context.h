@@ -36,6 +36,7 @@ struct DeviceReport {
   float timestampPeriodNs = 0;
   bool floatAtomicAdd = false;
   bool subgroupArithmetic = false;
+  bool int64Atomics = false;
 };
 
 class VulkanContext {

@@ -7,25 +7,26 @@
 
 namespace vktg {
 
-uint64_t wavefrontBytesPerPath(uint32_t layers, uint32_t lanes) {
+uint64_t wavefrontBytesPerPath(uint32_t layers, uint32_t lanes, const ExtraPathState& extra) {
   return sizeof(gpu::PathState) + sizeof(gpu::HitRecord) + 4 * sizeof(uint32_t) +
          gpu::kShadowRaysPerPath * sizeof(gpu::ShadowRay) + uint64_t(layers) * (1 + lanes) * sizeof(float) +
-         uint64_t(lanes) * (sizeof(gpu::PathDerivative) + gpu::kShadowRaysPerPath * 2 * sizeof(float));
+         uint64_t(lanes) * (sizeof(gpu::PathDerivative) + gpu::kShadowRaysPerPath * 2 * sizeof(float)) + extra.bytes;
 }
 
 uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint32_t lanes, uint64_t maxBufferRange,
-                      uint64_t maxPaths, uint32_t maxGroups) {
-  uint64_t batch = budgetBytes / wavefrontBytesPerPath(layers, lanes);
+                      uint64_t maxPaths, uint32_t maxGroups, const ExtraPathState& extra) {
+  uint64_t batch = budgetBytes / wavefrontBytesPerPath(layers, lanes, extra);
   // Every per-path buffer must be bindable as one storage buffer.
   uint64_t largestPerPath = std::max<uint64_t>({gpu::kShadowRaysPerPath * sizeof(gpu::ShadowRay),
                                                 uint64_t(layers) * (1 + lanes) * 4,
-                                                uint64_t(lanes) * sizeof(gpu::PathDerivative)});
+                                                uint64_t(lanes) * sizeof(gpu::PathDerivative), extra.largestBuffer});
   batch = std::min(batch, maxBufferRange / largestPerPath);
   batch = std::min<uint64_t>(batch, uint64_t(maxGroups) * gpu::kWorkgroupSize / (std::max(layers, 1u) * (1 + lanes)));
   batch = std::min<uint64_t>(batch, 1u << 22);
   if (batch < gpu::kWorkgroupSize)
     throw Error("--mem: the memory budget holds fewer than " + std::to_string(gpu::kWorkgroupSize) +
-                " paths of wavefront state (" + std::to_string(wavefrontBytesPerPath(layers, lanes)) + " bytes each); raise it");
+                " paths of wavefront state (" + std::to_string(wavefrontBytesPerPath(layers, lanes, extra)) +
+                " bytes each); raise it");
   uint64_t rounded = std::max<uint64_t>(gpu::kWorkgroupSize, (std::min(batch, std::max<uint64_t>(maxPaths, 1)) +
                                                              gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize * gpu::kWorkgroupSize);
   return uint32_t(std::min(rounded, batch / gpu::kWorkgroupSize * gpu::kWorkgroupSize));

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Test kernel: shaders/lib/edge.glsl's silhouette plane and normal velocity, the pieces of the
-// edge-sample weight. In per invocation (EdgeWeightIn in tests/gpu_edge.cpp): edge ends a0, a1,
+// Test kernel: shaders/lib/edge.glsl's silhouette plane and normal velocity v_n (minus the factor of
+// a boundary record), the pieces of the edge-sample weight. In per invocation (EdgeWeightIn in tests/gpu_edge.cpp): edge ends a0, a1,
 // face directions inward0, inward1, their end velocities u0, u1, the edge parameter t, the unit
 // direction w, distances dA, dB of x_a = y - dA w and x_b = y + dB w, and the velocities vA, vB.
 // Out: silhouette (1/0), n_p (3), sin(phi), v_n.
@@ -32,7 +32,7 @@ void main() {
   vec3 np;
   float sinPhi;
   bool silhouette = silhouettePlane(e, w, np, sinPhi);
-  float vn = edgeNormalVelocity(mix(u0, u1, t), vA, vB, dA, dB, np);
+  float vn = -recordFactor(boundaryRecord(0u, t, np, dA, dB), mix(u0, u1, t), vA, vB);
   uint o = kOutWords * i;
   testOut[o] = silhouette ? 1u : 0u;
   testOut[o + 1u] = floatBitsToUint(np.x);

@@ -32,12 +32,12 @@ std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vecto
     prepared.emplace(prepareScene(*scene));
     gpuScene.emplace(context, *prepared);
     table.setScene(*gpuScene);
-    frame = sceneFrameUniforms(*scene, *prepared, *gpuScene);
+    frame = sceneFrameUniforms(scene->camera, scene->render, *prepared, *gpuScene);
     setGateUniforms(frame, scene->gate, true);
   }
   frameBuffer.upload(context, &frame, sizeof frame);
   table.set(gpu::kBindingFrame, frameBuffer);
-  DescriptorSet set(context, pipelines.setLayout(), table, dummy);
+  DescriptorSet set(context, pipelines, table, dummy);
 
   SpecValues spec{};
   spec[gpu::kSpecMaterialMask] = 7;

@@ -205,6 +205,11 @@ struct GpuShape {
   uint unused;
 };
 
+// ParameterKind values move_vertices distinguishes (include/vktg/parameters.h).
+VKTG_CONST(uint, kParameterTranslate, 0);
+VKTG_CONST(uint, kParameterRotate, 1);
+VKTG_CONST(uint, kParameterDisplace, 2);
+
 // A Translate, Rotate or Displace parameter as move_vertices applies it (ParameterModel).
 struct GpuParameterOp {
   vec4 axisKind;     // xyz: axis (Displace: the displacement per unit θ); w: ParameterKind (uint bits)

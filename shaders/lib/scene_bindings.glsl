@@ -1,0 +1,44 @@
+// Descriptor declarations of the scene part of set 0 (bindings 0-13: frame and scene, laid out in
+// include/vktg/gpu/shared.h), shared by the render layout (lib/bindings.glsl) and the scene-update
+// layout (lib/update_bindings.glsl), with accessors that hide the chunking of large buffers (each
+// chunk stays under maxStorageBufferRange; lavapipe has no descriptor indexing, so chunks are
+// separate bindings selected by a switch).
+#ifndef VKTG_SCENE_BINDINGS_GLSL
+#define VKTG_SCENE_BINDINGS_GLSL
+#include "vktg/gpu/shared.h"
+
+layout(std140, set = 0, binding = kBindingFrame) uniform FrameBlock { FrameUniforms frame; };
+
+#define VKTG_CHUNKS(Type, name, base)                                                      \
+  layout(std430, set = 0, binding = base + 0) buffer name##Chunk0 { Type name##0[]; };     \
+  layout(std430, set = 0, binding = base + 1) buffer name##Chunk1 { Type name##1[]; };     \
+  layout(std430, set = 0, binding = base + 2) buffer name##Chunk2 { Type name##2[]; };     \
+  layout(std430, set = 0, binding = base + 3) buffer name##Chunk3 { Type name##3[]; };
+
+VKTG_CHUNKS(GpuTriangle, triangles, kBindingTriangles)
+VKTG_CHUNKS(GpuBvhNode, bvhNodes, kBindingBvhNodes)
+
+layout(std430, set = 0, binding = kBindingTriangleVerts) readonly buffer TriangleVertsBlock { uvec4 triangleVerts[]; };
+layout(std430, set = 0, binding = kBindingVertices) buffer VerticesBlock { vec4 vertices[]; };
+layout(std430, set = 0, binding = kBindingShapes) readonly buffer ShapesBlock { GpuShape shapes[]; };
+layout(std430, set = 0, binding = kBindingMaterials) readonly buffer MaterialsBlock { GpuMaterial materials[]; };
+layout(std430, set = 0, binding = kBindingLights) readonly buffer LightsBlock { GpuLight lights[]; };
+
+GpuTriangle loadTriangle(uint i) {
+  uint c = i >> frame.chunkShift.x;
+  uint j = i & ((1u << frame.chunkShift.x) - 1u);
+  if (c == 0u) return triangles0[j];
+  if (c == 1u) return triangles1[j];
+  if (c == 2u) return triangles2[j];
+  return triangles3[j];
+}
+
+GpuBvhNode loadBvhNode(uint i) {
+  uint c = i >> frame.chunkShift.y;
+  uint j = i & ((1u << frame.chunkShift.y) - 1u);
+  if (c == 0u) return bvhNodes0[j];
+  if (c == 1u) return bvhNodes1[j];
+  if (c == 2u) return bvhNodes2[j];
+  return bvhNodes3[j];
+}
+#endif

@@ -1,0 +1,78 @@
+#include "host/adjoint.h"
+
+#include <cmath>
+
+#include "vktg/error.h"
+
+namespace vktg {
+
+GradientLayout gradientLayout(const Scene& scene, const PreparedScene& prepared) {
+  GradientLayout l;
+  l.materials = 1;  // slot 0: the gate centre
+  l.emission = l.materials + 3 * uint32_t(scene.materials.size());
+  l.lights = l.emission + uint32_t(scene.shapes.size());
+  l.vertices = l.lights + 4 * uint32_t(scene.pointLights.size());
+  l.total = l.vertices + 3 * uint32_t(prepared.vertices.size());
+  l.firstPointLight = uint32_t(prepared.lights.size() - scene.pointLights.size());
+  return l;
+}
+
+uint32_t adjointTargets(const ParameterModel& model) {
+  uint32_t bits = 0;
+  if (model.movesVertices()) bits |= gpu::kAdjointVertices;
+  if (model.touchesMaterials()) bits |= gpu::kAdjointMaterials;
+  if (model.touchesEmission()) bits |= gpu::kAdjointEmission;
+  if (model.movesPointLights() || model.touchesIntensity()) bits |= gpu::kAdjointLights;
+  if (model.touchesGate()) bits |= gpu::kAdjointGate;
+  return bits;
+}
+
+GradientAccumulator::GradientAccumulator(const VulkanContext& context, const GradientLayout& layout)
+    : m_context(context), m_layout(layout),
+      m_buffer(context, uint64_t(layout.total) * sizeof(int64_t), MemoryKind::Device, "adjoint.gradient") {
+  clear();
+}
+
+void GradientAccumulator::clear() {
+  std::vector<int64_t> zeros(m_layout.total, 0);
+  m_buffer.upload(m_context, zeros.data(), zeros.size() * sizeof(int64_t));
+}
+
+std::vector<int64_t> GradientAccumulator::download() const {
+  std::vector<int64_t> raw(m_layout.total);
+  m_buffer.download(m_context, raw.data(), raw.size() * sizeof(int64_t));
+  return raw;
+}
+
+double GradientAccumulator::largestMagnitude() const {
+  double largest = 0;
+  for (int64_t v : download()) largest = std::max(largest, std::abs(double(v)));
+  return largest;
+}
+
+SceneGradient GradientAccumulator::read(const Scene& scene, double scale) const {
+  const std::vector<int64_t> raw = download();
+  auto at = [&](uint32_t slot) { return double(raw.at(slot)) / scale; };
+  SceneGradient g;
+  g.resize(scene);
+  if (g.vertices.size() * 3 + m_layout.vertices != m_layout.total)
+    throw Error("internal: the gradient layout does not fit the scene");
+  g.gateCenter = at(0);
+  for (size_t m = 0; m < g.materials.size(); ++m) {
+    uint32_t s = m_layout.materials + 3 * uint32_t(m);
+    g.materials[m] = glm::dvec3(at(s), at(s + 1), at(s + 2));
+  }
+  for (size_t s = 0; s < g.emission.size(); ++s) g.emission[s] = at(m_layout.emission + uint32_t(s));
+  for (size_t l = 0; l < g.intensity.size(); ++l) {
+    uint32_t s = m_layout.lights + 4 * uint32_t(l);
+    g.intensity[l] = at(s);
+    g.lightPosition[l] = glm::dvec3(at(s + 1), at(s + 2), at(s + 3));
+  }
+  for (size_t v = 0; v < g.vertices.size(); ++v) {
+    uint32_t s = m_layout.vertices + 3 * uint32_t(v);
+    g.vertices[v] = glm::dvec3(at(s), at(s + 1), at(s + 2));
+  }
+  return g;
+}
+
+}  // namespace vktg

@@ -1,0 +1,45 @@
+// Gradients of a loss by adjoint-weighted accumulation (THEORY.md §7): every sample adds
+// (d loss / d I of its pixel) × (its contribution's derivative) into one accumulator per scene
+// quantity it touches: the gate, per material (albedo, roughness, ior), per shape's emission, per
+// point light (intensity, position) and per vertex (position). Accumulators are 64-bit integers
+// holding round(value × scale): integer addition is associative, so the sum does not depend on
+// the order the device adds in, and a run is reproducible bit for bit (what `--resume` needs).
+#pragma once
+#include <cstdint>
+
+#include "host/vk_resources.h"
+#include "vktg/parameter_model.h"
+#include "vktg/prepared_scene.h"
+
+namespace vktg {
+
+// Where each quantity's accumulators start (in int64 slots), as FrameUniforms.gradientLayout.
+struct GradientLayout {
+  uint32_t materials = 1, emission = 1, lights = 1, vertices = 1, total = 1;
+  uint32_t firstPointLight = 0;  // index of the first point light in the lights array
+};
+
+GradientLayout gradientLayout(const Scene& scene, const PreparedScene& prepared);
+
+// kAdjoint* bits (include/vktg/gpu/shared.h): what `model`'s parameters touch.
+uint32_t adjointTargets(const ParameterModel& model);
+
+class GradientAccumulator {
+ public:
+  GradientAccumulator(const VulkanContext& context, const GradientLayout& layout);
+  void clear();
+  // The accumulated gradient, divided by `scale`, with respect to `scene`'s quantities.
+  SceneGradient read(const Scene& scene, double scale) const;
+  // The largest accumulator magnitude, in units of the accumulator (to choose the next scale).
+  double largestMagnitude() const;
+  Buffer& buffer() { return m_buffer; }
+  const GradientLayout& layout() const { return m_layout; }
+
+ private:
+  std::vector<int64_t> download() const;
+  const VulkanContext& m_context;
+  GradientLayout m_layout;
+  Buffer m_buffer;
+};
+
+}  // namespace vktg

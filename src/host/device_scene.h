@@ -1,0 +1,86 @@
+// A scene resident on the device across renders (DESIGN.md §3a): geometry, BVH, materials, lights
+// and, for edge passes, the edge list, uploaded once and shared by every render, gradient and
+// optimisation iteration. With a ParameterModel the scene moves in place: update(θ) uploads θ, and
+// the device moves the vertices (move_vertices), refreshes the triangles (update_triangles), refits
+// the BVH level by level (refit_bvh) and moves the edge list (update_edges). The host keeps only the
+// small tables (materials, shapes, lights, gate) in step. When a quality check finds the refit BVH's
+// SAH cost too far above what the tree cost when built, the BVH is rebuilt from the host's scene at θ,
+// so the tree at any θ follows from (θ of the last build, θ) alone: a resumed run rebuilds it exactly.
+#pragma once
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "host/gpu_scene.h"
+#include "host/pass_pipelines.h"
+#include "vktg/parameter_model.h"
+#include "vktg/prepared_scene.h"
+#include "vktg/scene.h"
+
+namespace vktg {
+
+// A refit tree is rebuilt once its SAH cost exceeds this multiple of its cost when built.
+inline constexpr double kBvhRebuildRatio = 1.5;
+
+class DeviceScene {
+ public:
+  // A scene that does not move.
+  DeviceScene(VulkanContext& context, const Scene& scene);
+  // A scene `model`'s parameters move, starting at θ = `theta` with the BVH built at `buildTheta`
+  // (a fresh run passes the same vector twice; a resumed one the checkpoint's).
+  DeviceScene(VulkanContext& context, const ParameterModel& model, std::span<const double> theta,
+              std::span<const double> buildTheta);
+  ~DeviceScene();
+  DeviceScene(const DeviceScene&) = delete;
+  DeviceScene& operator=(const DeviceScene&) = delete;
+
+  // Moves the scene to θ on the device. With `checkQuality`, measures the refit BVH on the host
+  // (O(triangles)) and rebuilds it when it has degraded past kBvhRebuildRatio.
+  void update(std::span<const double> theta, bool checkQuality);
+
+  // The host's view at the current θ: materials, lights, gate, camera and render settings are
+  // current; shape positions are those of the last BVH build (the device holds the current ones).
+  const Scene& scene() const { return m_scene; }
+  const PreparedScene& prepared() const { return m_prepared; }
+  const GpuScene& gpu() const { return *m_gpu; }
+  const ParameterModel* model() const { return m_model; }
+  VulkanContext& context() const { return m_context; }
+
+  // The edge list of the edge passes (edgeList: `movingVertex` per vertex, whose edges get half the
+  // selection mass; flat creases at `deformingVertex` kept), built when first asked for or when
+  // either set changes, moved with the scene from then on.
+  const Buffer& edges(const std::vector<bool>& movingVertex, const std::vector<bool>& deformingVertex);
+  uint32_t edgeCount() const { return m_edgeCount; }
+
+  // Points a point light (Scene::pointLights index) somewhere else, e.g. a target's laser position.
+  void setPointLightPosition(uint32_t light, const glm::vec3& position);
+
+  std::span<const double> theta() const { return m_theta; }
+  std::span<const double> buildTheta() const { return m_buildTheta; }
+  uint32_t rebuilds() const { return m_rebuilds; }
+  double lastSahRatio() const { return m_lastSahRatio; }  // refit cost / cost when built (1 before any check)
+
+ private:
+  void build(const Scene& sceneAtBuild);
+  void uploadTables();
+  void runUpdatePasses(bool moveGeometry);
+
+  VulkanContext& m_context;
+  const ParameterModel* m_model = nullptr;
+  Scene m_scene;
+  PreparedScene m_prepared;
+  std::unique_ptr<GpuScene> m_gpu;
+  std::vector<double> m_theta, m_buildTheta;
+  double m_buildCost = 0, m_lastSahRatio = 1;
+  uint32_t m_rebuilds = 0;
+
+  struct UpdateResources;
+  std::unique_ptr<UpdateResources> m_update;
+
+  Buffer m_edgeBuffer, m_edgeFaces;
+  std::vector<bool> m_edgeMoving, m_edgeDeforming;
+  bool m_edgesBuilt = false;
+  uint32_t m_edgeCount = 0;
+};
+
+}  // namespace vktg

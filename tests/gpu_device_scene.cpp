@@ -1,0 +1,178 @@
+// The device-resident scene moving in place (DeviceScene::update): the device's moved vertices are
+// the host model's (ParameterModel, double precision) to float rounding; the refit BVH is the
+// host's refit of the same tree; a render of the moved scene is a render of the scene built afresh
+// at θ (same random numbers: only float rounding of the positions differs, so the images agree to
+// far within their noise); a tree that motion degraded is rebuilt, and the rebuild is reproducible
+// from the θ it was built at.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+#include "host/device_scene.h"
+#include "support/gpu_context.h"
+#include "support/render_test.h"
+#include "vktg/bvh.h"
+
+namespace vktg::test {
+namespace {
+
+Scene movingScene() {
+  return parseSceneJson(R"({
+    "version": 1,
+    "camera": {"type": "perspective", "position": [0, 1.6, 2.4], "look_at": [0, 0, 0], "fov_y": 45, "resolution": [24, 24]},
+    "materials": {"ground": {"type": "diffuse", "albedo": 0.6}, "white": {"type": "diffuse", "albedo": 0.8}},
+    "shapes": [
+      {"name": "ground", "type": "heightfield", "resolution": [5, 5], "size": [2, 2], "material": "ground",
+       "heights": [0, 0, 0, 0, 0, 0, 0.1, 0.2, 0.1, 0, 0, 0.2, 0.3, 0.2, 0, 0, 0.1, 0.2, 0.1, 0, 0, 0, 0, 0, 0]},
+      {"name": "box", "type": "cube", "material": "white", "transform": {"translate": [0.3, 0.4, -0.2], "scale": 0.15}},
+      {"name": "lamp", "type": "rectangle", "emission": 6, "transform": {"translate": [0, 1.5, 0], "rotate": [90, 0, 0], "scale": 0.4}}
+    ],
+    "parameters": [
+      {"type": "heightfield_heights", "shape": "ground", "name_prefix": "h"},
+      {"name": "slide", "type": "translate", "shape": "box", "axis": [1, 0, 0]},
+      {"name": "spin", "type": "rotate", "shape": "box", "axis": [0, 1, 0]},
+      {"name": "glow", "type": "emission", "shape": "lamp"},
+      {"name": "grey", "type": "albedo", "material": "ground"}
+    ],
+    "render": {"spp": 64, "max_depth": 3, "seed": 4}
+  })", "moving.json", ".");
+}
+
+std::vector<uint32_t> allParameters(const Scene& scene) {
+  std::vector<uint32_t> out;
+  for (uint32_t i = 0; i < scene.parameters.size(); ++i) out.push_back(i);
+  return out;
+}
+
+std::vector<double> someTheta(const ParameterModel& model) {
+  std::vector<double> theta(model.size(), 0.0);
+  for (size_t k = 0; k < theta.size(); ++k) {
+    const std::string& name = model.parameter(k).name;
+    if (name[0] == 'h') theta[k] = 0.05 * std::sin(3.0 * double(k));
+  }
+  theta[findParameter(model.baseScene(), "slide")] = -0.2;
+  theta[findParameter(model.baseScene(), "spin")] = 0.6;
+  theta[findParameter(model.baseScene(), "glow")] = 2.0;
+  theta[findParameter(model.baseScene(), "grey")] = -0.2;
+  return theta;
+}
+
+template <class T>
+std::vector<T> download(const Buffer& buffer, size_t count) {
+  std::vector<T> out(count);
+  buffer.download(testContext(), out.data(), count * sizeof(T));
+  return out;
+}
+
+std::vector<gpu::GpuBvhNode> downloadNodes(const ChunkedBuffer& chunks, size_t count) {
+  std::vector<gpu::GpuBvhNode> out(count);
+  const size_t perChunk = size_t(1) << chunks.shift;
+  for (size_t c = 0; c < chunks.chunks.size(); ++c) {
+    size_t first = c * perChunk, n = std::min(perChunk, count - std::min(count, first));
+    if (n > 0) chunks.chunks[c].download(testContext(), out.data() + first, n * sizeof(gpu::GpuBvhNode));
+  }
+  return out;
+}
+
+TEST(DeviceScene, MovedVerticesAreTheModels) {
+  const Scene scene = movingScene();
+  ParameterModel model(scene, allParameters(scene));
+  const std::vector<double> zero(model.size(), 0.0), theta = someTheta(model);
+  DeviceScene device(testContext(), model, zero, zero);
+  device.update(theta, false);
+  const std::vector<glm::vec4> moved = download<glm::vec4>(device.gpu().vertices, device.prepared().vertices.size());
+  size_t v = 0;
+  double worst = 0;
+  for (uint32_t s = 0; s < scene.shapes.size(); ++s)
+    for (const glm::dvec3& expected : model.shapePositions(theta, s)) {
+      // Float rounding of a rotation and a sum of a few terms: a few ulps of coordinates below 2.
+      const double error = glm::length(glm::dvec3(moved[v++]) - expected);
+      worst = std::max(worst, error);
+      EXPECT_LT(error, 1e-6) << "vertex " << v - 1;
+    }
+  std::printf("  largest device - host vertex distance %.3g\n", worst);
+  // Scalars follow θ on the host side.
+  EXPECT_FLOAT_EQ(device.scene().materials[0].albedo, 0.4f);
+  EXPECT_FLOAT_EQ(device.scene().shapes[2].emission, 8.0f);
+}
+
+TEST(DeviceScene, RefitIsTheHostRefitOfTheSameTree) {
+  const Scene scene = movingScene();
+  ParameterModel model(scene, allParameters(scene));
+  const std::vector<double> zero(model.size(), 0.0), theta = someTheta(model);
+  DeviceScene device(testContext(), model, theta, zero);  // built at 0, moved to θ
+  Bvh host = device.prepared().bvh;
+  const Scene moved = model.sceneAt(theta);
+  std::vector<glm::vec3> vertices;
+  for (const Shape& s : moved.shapes) vertices.insert(vertices.end(), s.positions.begin(), s.positions.end());
+  std::vector<BvhTriangle> soup;
+  for (const glm::uvec4& t : device.prepared().triangleVerts) soup.push_back({vertices[t.x], vertices[t.y], vertices[t.z]});
+  refitBvh(host, soup);
+  const std::vector<gpu::GpuBvhNode> nodes = downloadNodes(device.gpu().bvhNodes, host.nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const gpu::GpuBvhNode &a = nodes[i], &b = host.nodes[i];
+    EXPECT_EQ(std::bit_cast<uint32_t>(a.rightMinCount.w), std::bit_cast<uint32_t>(b.rightMinCount.w)) << "node " << i;
+    if (std::bit_cast<uint32_t>(a.rightMinCount.w) > 0) continue;  // a leaf's boxes are unused
+    for (auto [x, y] : {std::pair{a.leftMinLeftIndex, b.leftMinLeftIndex}, {a.leftMaxRightIndex, b.leftMaxRightIndex},
+                        {a.rightMinCount, b.rightMinCount}, {a.rightMaxFirst, b.rightMaxFirst}})
+      EXPECT_LT(glm::length(glm::vec3(x) - glm::vec3(y)), 2e-6f) << "node " << i;
+  }
+}
+
+// Same seed, same paths: the moved scene renders as the scene built at θ does.
+void expectRendersLikeAFreshScene(DeviceScene& device, const Scene& fresh) {
+  RenderOptions options;
+  options.nee = NeeMode::Standard;
+  RenderResult a = testRenderer().render(device, RenderSetup::of(fresh), options);
+  RenderResult b = testRenderer().render(fresh, options);
+  ImageMean ma = imageMean(a.mean.layers[0].pixels, a.variance.layers[0].pixels);
+  ImageMean mb = imageMean(b.mean.layers[0].pixels, b.variance.layers[0].pixels);
+  std::printf("  image means: moved %.7g, fresh %.7g (standard error %.2g)\n", ma.mean, mb.mean, ma.standardError);
+  EXPECT_GT(ma.mean, 0.0);
+  // The two estimates share their samples: they differ by float rounding of positions only, far
+  // below their standard error; a lost triangle or a stale light table would not.
+  EXPECT_LT(std::abs(ma.mean - mb.mean), 0.02 * ma.standardError);
+  size_t differing = 0;
+  for (size_t i = 0; i < a.mean.layers[0].pixels.size(); ++i) {
+    float x = a.mean.layers[0].pixels[i], y = b.mean.layers[0].pixels[i];
+    if (std::abs(x - y) > 1e-3f * std::max(std::abs(y), 1e-3f)) ++differing;
+  }
+  EXPECT_LE(differing, a.mean.layers[0].pixels.size() / 100) << "pixels that differ beyond rounding";
+}
+
+TEST(DeviceScene, MovedSceneRendersLikeAFreshOne) {
+  const Scene scene = movingScene();
+  ParameterModel model(scene, allParameters(scene));
+  const std::vector<double> zero(model.size(), 0.0), theta = someTheta(model);
+  DeviceScene device(testContext(), model, zero, zero);
+  device.update(theta, false);
+  expectRendersLikeAFreshScene(device, model.sceneAt(theta));
+}
+
+TEST(DeviceScene, DegradedTreeIsRebuiltReproducibly) {
+  const Scene scene = movingScene();
+  ParameterModel model(scene, allParameters(scene));
+  const std::vector<double> zero(model.size(), 0.0);
+  std::vector<double> theta = someTheta(model);
+  // Every other height far up: the refit boxes of the flat ground balloon.
+  for (size_t k = 0; k < 25; k += 2) theta[findParameter(scene, "h" + std::to_string(k))] = 1.5;
+  DeviceScene device(testContext(), model, zero, zero);
+  device.update(theta, true);
+  std::printf("  SAH cost of the refit tree / when built: %.3f, rebuilds %u\n", device.lastSahRatio(), device.rebuilds());
+  EXPECT_GT(device.lastSahRatio(), kBvhRebuildRatio);
+  EXPECT_EQ(device.rebuilds(), 1u);
+  EXPECT_EQ(std::vector<double>(device.buildTheta().begin(), device.buildTheta().end()), theta);
+  expectRendersLikeAFreshScene(device, model.sceneAt(theta));
+  // A scene built at the recorded θ holds the same tree (what a resumed run relies on).
+  DeviceScene again(testContext(), model, theta, device.buildTheta());
+  EXPECT_EQ(again.prepared().bvh.order, device.prepared().bvh.order);
+  const std::vector<gpu::GpuBvhNode> a = downloadNodes(device.gpu().bvhNodes, device.prepared().bvh.nodes.size());
+  const std::vector<gpu::GpuBvhNode> b = downloadNodes(again.gpu().bvhNodes, again.prepared().bvh.nodes.size());
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(gpu::GpuBvhNode)));
+}
+
+}  // namespace
+}  // namespace vktg::test

@@ -1,0 +1,177 @@
+// The gradient of a loss by adjoint-weighted accumulation (lossGradient: every term in adjoint
+// form, one render per term whatever the number of parameters) against the forward-mode lanes of
+// `vktg grad` (renderGradient) contracted with the same adjoint image: sum_q a_q dI_q/dθ_k.
+// Both estimate the same derivative with the same samples (same seed, same sampling decisions),
+// so they agree sample by sample up to float rounding of their different arithmetic (forward dual
+// numbers against reverse-mode adjoints) and the accumulators' fixed point: the tolerance is
+// 1e-5 of sum_q |a_q| E|sample_q|, with E|sample| bounded by |mean| + sqrt(spp) std. error. A
+// missing or wrong factor moves the result by O(1) of that scale. Scenes cover every parameter
+// kind, each term, both cameras, and diffuse, glossy and glass materials.
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "host/gradient.h"
+#include "support/render_test.h"
+#include "vktg/parameter_model.h"
+#include "vktg/scene.h"
+
+namespace vktg {
+namespace {
+
+// A fixed adjoint image: deterministic values of both signs, so every pixel's derivative counts.
+ImageSet adjointImage(uint32_t width, uint32_t height, uint32_t layers) {
+  ImageSet a;
+  a.width = width;
+  a.height = height;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (uint32_t l = 0; l < layers; ++l) {
+    ImageLayer layer;
+    for (uint32_t i = 0; i < width * height; ++i) layer.pixels.push_back(u(rng));
+    a.layers.push_back(layer);
+  }
+  return a;
+}
+
+struct Contracted {
+  double value = 0, scale = 0;  // sum a dI/dθ, and sum |a| (|dI/dθ| + sqrt(spp var))
+};
+
+Contracted contract(const ImageSet& adjoint, const ImageSet& derivative, const ImageSet& variance, double samples) {
+  Contracted c;
+  for (size_t l = 0; l < adjoint.layers.size(); ++l)
+    for (size_t i = 0; i < adjoint.layers[l].pixels.size(); ++i) {
+      double a = adjoint.layers[l].pixels[i], d = derivative.layers[l].pixels[i], v = variance.layers[l].pixels[i];
+      c.value += a * d;
+      c.scale += std::abs(a) * (std::abs(d) + std::sqrt(samples * std::max(v, 0.0)));
+    }
+  return c;
+}
+
+void expectAdjointMatchesLanes(const Scene& scene, const std::vector<std::string>& names, const GradientOptions& options) {
+  const uint32_t width = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.width;
+  const uint32_t height = scene.camera.type == CameraType::PointSensor ? 1 : scene.camera.height;
+  const ImageSet adjoint = adjointImage(width, height, scene.gate.layers());
+
+  GradientResult dense = renderGradient(test::testRenderer(), scene, names, options);
+  std::vector<uint32_t> indices;
+  for (const std::string& n : names) indices.push_back(findParameter(scene, n));
+  ParameterModel model(scene, indices);
+  std::vector<double> theta(model.size(), 0.0);
+  DeviceScene deviceScene(test::testRenderer().context(), model, theta, theta);
+  AdjointState state;
+  AdjointView view{RenderSetup::of(scene), {}, &adjoint};
+  LossGradient sparse = lossGradient(test::testRenderer(), deviceScene, {view}, options, state);
+  EXPECT_EQ(sparse.stats.nonFinite, 0u);
+  EXPECT_EQ(dense.plan.reasons, sparse.plan.reasons);
+  // The largest per-pixel sample count among the terms bounds E|sample| from the variance.
+  const double samples = std::max({double(scene.render.spp), double(options.sppEdge), double(options.sppBoundary)});
+  for (size_t k = 0; k < names.size(); ++k) {
+    Contracted c = contract(adjoint, dense.total.derivatives[k], dense.total.variances[k], samples);
+    const double tolerance = 1e-5 * c.scale;
+    std::printf("%-12s lanes %+.6e  adjoint %+.6e  |difference| %.2e  tolerance %.2e\n", names[k].c_str(), c.value,
+                sparse.theta[k], std::abs(sparse.theta[k] - c.value), tolerance);
+    EXPECT_NEAR(sparse.theta[k], c.value, tolerance) << names[k];
+    // The comparison means something only where the derivative is well above the tolerance.
+    EXPECT_GT(std::abs(c.value), 20 * tolerance) << names[k] << ": too small to test";
+  }
+}
+
+GradientOptions options(uint32_t sppEdge, uint32_t sppBoundary) {
+  GradientOptions o;
+  o.sppEdge = sppEdge;
+  o.sppBoundary = sppBoundary;
+  return o;
+}
+
+// A floor (diffuse), a glossy block hovering over it and an area light, seen by a pinhole under a
+// box gate: interior, edge (the block's silhouette and shadow) and path-length-boundary terms.
+Scene roomScene() {
+  return parseSceneJson(R"({
+    "version": 1,
+    "camera": {"type": "perspective", "position": [0, 1.2, 3], "look_at": [0, 0.2, 0], "fov_y": 40, "resolution": [12, 12]},
+    "gate": {"type": "box", "a": 5.2, "b": 6.4},
+    "materials": {"floor": {"type": "diffuse", "albedo": 0.6},
+                  "metal": {"type": "conductor", "albedo": 0.8, "roughness": 0.35}},
+    "shapes": [
+      {"name": "floor", "type": "rectangle", "material": "floor", "transform": {"rotate": [-90, 0, 0], "scale": 2}},
+      {"name": "block", "type": "cube", "material": "metal",
+       "transform": {"translate": [0.1, 0.45, 0], "rotate": [0, 25, 0], "scale": 0.25}},
+      {"name": "lamp", "type": "rectangle", "emission": 8,
+       "transform": {"translate": [0.3, 1.6, 0.2], "rotate": [90, 0, 0], "scale": 0.3}}
+    ],
+    "lights": [{"type": "point", "name": "bulb", "position": [-0.8, 1.0, 0.6], "intensity": 1.5}],
+    "parameters": [
+      {"name": "block_x", "type": "translate", "shape": "block", "axis": [1, 0, 0]},
+      {"name": "bulb_y", "type": "light_position", "light": "bulb", "axis": [0, 1, 0]},
+      {"name": "floor_albedo", "type": "albedo", "material": "floor"},
+      {"name": "t0", "type": "gate_center"},
+      {"name": "spin", "type": "rotate", "shape": "block", "axis": [0, 1, 0]},
+      {"name": "gloss", "type": "roughness", "material": "metal"},
+      {"name": "lamp_power", "type": "emission", "shape": "lamp"},
+      {"name": "bulb_power", "type": "intensity", "light": "bulb"}
+    ],
+    "render": {"spp": 16, "max_depth": 4, "seed": 3}
+  })", "room.json", ".");
+}
+
+TEST(GradAdjoint, MovingShapeLightAlbedoGateUnderBoxGate) {
+  expectAdjointMatchesLanes(roomScene(), {"block_x", "bulb_y", "floor_albedo", "t0"}, options(16, 16));
+}
+
+TEST(GradAdjoint, RotationRoughnessEmissionIntensity) {
+  Scene scene = roomScene();
+  scene.gate = parseGateSpec("gaussian:5.8,0.4");
+  expectAdjointMatchesLanes(scene, {"spin", "gloss", "lamp_power", "bulb_power"}, options(16, 16));
+}
+
+// A heightfield (four of its heights) under a near-delta gaussian with ellipsoidal connections and
+// antithetic pairs, lit by a point light.
+TEST(GradAdjoint, HeightfieldNearDeltaEllipsoidalAntithetic) {
+  Scene scene = parseSceneJson(R"({
+    "version": 1,
+    "camera": {"type": "perspective", "position": [0, 1.5, 1.5], "look_at": [0, 0, 0], "fov_y": 45, "resolution": [10, 10]},
+    "gate": {"type": "gaussian", "mu": 4.6, "sigma": 0.01},
+    "materials": {"ground": {"type": "diffuse", "albedo": 0.7}},
+    "shapes": [
+      {"name": "ground", "type": "heightfield", "resolution": [3, 3], "size": [2, 2],
+       "heights": [0, 0.1, 0, 0.2, 0.3, 0.1, 0, 0.05, 0], "material": "ground"}
+    ],
+    "lights": [{"type": "point", "name": "bulb", "position": [0.4, 1.3, 0.8], "intensity": 2}],
+    "parameters": [{"type": "heightfield_heights", "shape": "ground", "name_prefix": "h"}],
+    "render": {"spp": 32, "max_depth": 3, "seed": 5}
+  })", "heights.json", ".");
+  expectAdjointMatchesLanes(scene, {"h1", "h3", "h4", "h5"}, options(16, 32));
+}
+
+// A point sensor above a glass-covered plane under a box gate: paths start at the sensor (material
+// form from the first vertex), the path-length boundary is placed from the sensor's own vertices.
+TEST(GradAdjoint, PointSensorGlassAndPlane) {
+  Scene scene = parseSceneJson(R"({
+    "version": 1,
+    "camera": {"type": "point_sensor", "position": [0, 0, 1], "normal": [0, 0, -1]},
+    "gate": {"type": "box", "a": 2.1, "b": 2.6},
+    "materials": {"wall": {"type": "diffuse", "albedo": 0.8},
+                  "glass": {"type": "dielectric", "roughness": 0.3, "ior": 1.4}},
+    "shapes": [
+      {"name": "plane", "type": "rectangle", "material": "wall", "transform": {"scale": 1.5}},
+      {"name": "slab", "type": "cube", "material": "glass",
+       "transform": {"translate": [0.3, 0.1, 0.35], "scale": [0.3, 0.3, 0.05]}}
+    ],
+    "lights": [{"type": "point", "name": "laser", "position": [0, 0, 1], "intensity": 1}],
+    "parameters": [
+      {"name": "plane_z", "type": "translate", "shape": "plane", "axis": [0, 0, 1]},
+      {"name": "slab_x", "type": "translate", "shape": "slab", "axis": [1, 0, 0]},
+      {"name": "eta", "type": "ior", "material": "glass"},
+      {"name": "t0", "type": "gate_center"}
+    ],
+    "render": {"spp": 512, "max_depth": 4, "seed": 9}
+  })", "sensor.json", ".");
+  expectAdjointMatchesLanes(scene, {"plane_z", "slab_x", "eta", "t0"}, options(128, 256));
+}
+
+}  // namespace
+}  // namespace vktg
