@@ -1,11 +1,8 @@
 // Experiment files (docs/optimize.md): the complete example parsed field by field, defaults,
 // wildcard selection, views and gates of targets, target images, and every class of bad input
 // as one table whose rows each edit a valid base experiment in one place.
-#include <unistd.h>
-
 #include <filesystem>
 #include <functional>
-#include <random>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -266,15 +263,15 @@ TEST(ExperimentErrors, SyntaxAndDuplicateKeysAndRoot) {
   expectError([] { parseExperimentJson("[1]", kFile, kData); }, {kFile, "wrong type"});
 }
 
-TEST(ExperimentErrors, SceneErrorsNameBothFiles) {
-  const fs::path dir = fs::temp_directory_path() / ("vktg-unit-experiment-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+class ExperimentFiles : public test::TempDirTest {};
+
+TEST_F(ExperimentFiles, SceneErrorsNameBothFiles) {
+  const fs::path dir = m_dir;
   test::writePlain(dir / "broken.json", R"({"version": 1, "camera": {"type": "pinhole"}})");
   json experiment = baseExperiment();
   experiment["scene"] = "broken.json";
   expectError([&] { parseExperimentJson(experiment.dump(), kFile, dir); },
               {kFile, "scene: ", (dir / "broken.json").string(), "camera.type", "unknown type"});
-  fs::remove_all(dir);
 }
 
 TEST(Experiment, CompleteExampleParsesFieldByField) {
@@ -434,7 +431,7 @@ TEST(Experiment, PatternsSelectInSceneOrderAndEntriesKeepTheirOrder) {
   EXPECT_EQ(x.parameters[7].sceneIndex, 15u);
 }
 
-TEST(Experiment, ThousandsOfParametersAreSelectedByNameAndPattern) {
+TEST_F(ExperimentFiles, ThousandsOfParametersAreSelectedByNameAndPattern) {
   // A 200 x 200 heightfield: 40 000 height parameters, selected by one pattern with a per-parameter
   // initial value and by 2000 exact names (a name -> index map, not a scan per name).
   const uint32_t n = 200;
@@ -442,8 +439,7 @@ TEST(Experiment, ThousandsOfParametersAreSelectedByNameAndPattern) {
   scene["shapes"][0]["resolution"] = {n, n};
   scene["shapes"][0]["heights"] = std::vector<double>(size_t(n) * n, 0.0);
   scene["parameters"] = {{{"type", "heightfield_heights"}, {"shape", "terrain"}, {"name_prefix", "h"}}};
-  const fs::path dir = fs::temp_directory_path() / ("vktg-unit-experiment-large-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = m_dir;
   test::writePlain(dir / "large.json", scene.dump());
   test::writePlain(dir / "front.exr", test::readAll(kData / "front.exr"));
   json j = {{"version", 1}, {"scene", "large.json"}, {"targets", {{{"image", "front.exr"}}}}};
@@ -460,7 +456,6 @@ TEST(Experiment, ThousandsOfParametersAreSelectedByNameAndPattern) {
   const Experiment some = parseExperimentJson(j.dump(), kFile, dir);
   ASSERT_EQ(some.parameters.size(), 2000u);
   EXPECT_EQ(some.parameters[1999].sceneIndex, 1999u * 17);
-  fs::remove_all(dir);
 }
 
 TEST(Experiment, SceneForTargetAppliesViewAndGate) {
@@ -507,22 +502,18 @@ TEST(Experiment, ParameterErrorIsTheRmsOverKnownTruths) {
   expectError([&] { parameterError(parameters, {0}); }, {"1 values for 3 parameters"});
 }
 
-class TargetImages : public testing::Test {
+class TargetImages : public test::TempDirTest {
  protected:
   void SetUp() override {
-    m_dir = fs::temp_directory_path() /
-            ("vktg-unit-target-images-" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
-    fs::create_directories(m_dir);
+    TempDirTest::SetUp();
     test::writePlain(m_dir / "terrain.json", test::readAll(kData / "terrain.json"));
   }
-  void TearDown() override { fs::remove_all(m_dir); }
 
   // The base experiment with target 0's image written here first.
   Experiment withImage(const ImageSet& image) {
     writeExr(m_dir / "front.exr", image);
     return parseExperimentJson(baseExperiment().dump(), kFile, m_dir);
   }
-  fs::path m_dir;
 };
 
 ImageSet filled(uint32_t width, uint32_t height, size_t layers, float value) {
@@ -571,7 +562,7 @@ TEST_F(TargetImages, UnreadableExrNamesTheFieldAndTheFile) {
   expectError([&] { loadTargetImage(x, 0); }, {kFile, "targets[0].image", (m_dir / "front.exr").string()});
 }
 
-TEST(ExperimentFiles, MissingExperimentFile) {
+TEST_F(ExperimentFiles, MissingExperimentFile) {
   const fs::path missing = kData / "absent.json";
   expectError([&] { loadExperiment(missing); }, {missing.string(), "file not found"});
 }

@@ -6,14 +6,12 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <random>
 
 #include "vktg/error.h"
 #include "support/file_test.h"
@@ -46,19 +44,7 @@ int srgbByte(float linear) {
   return int(std::lround(encoded * 255.0f));
 }
 
-class ImageIo : public ::testing::Test {
- protected:
-  void SetUp() override {
-    m_dir = fs::temp_directory_path() /
-            ("vktg-unit-image-io-" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
-    fs::create_directories(m_dir);
-  }
-  void TearDown() override {
-    std::error_code error;
-    fs::remove_all(m_dir, error);
-  }
-  fs::path m_dir;
-};
+class ImageIo : public vktg::test::TempDirTest {};
 
 // Values chosen to expose any lossy path: denormals, negative zero, extremes, non-dyadic fractions.
 std::vector<float> awkwardValues(size_t count, float seed) {

@@ -1,10 +1,7 @@
 // Figures of a run: line plots, image strips and heightfield comparisons, decoded back from PNG to
 // check sizes, where a series' pixels land on linear and log axes, shared exposures and colours.
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
-#include <random>
 
 #include <gtest/gtest.h>
 
@@ -79,16 +76,7 @@ Frame findFrame(const DecodedPng& png) {
   return frame;
 }
 
-class Plots : public testing::Test {
- protected:
-  void SetUp() override {
-    m_dir = fs::temp_directory_path() / ("vktg-unit-plot-" + std::to_string(::getpid()) + "-" +
-                                         std::to_string(std::random_device{}()));
-    fs::create_directories(m_dir);
-  }
-  void TearDown() override { fs::remove_all(m_dir); }
-  fs::path m_dir;
-};
+class Plots : public test::TempDirTest {};
 
 PlotSeries sampled(const std::string& name, double x0, double x1, int count, double (*f)(double)) {
   PlotSeries series{name, {}, {}};
@@ -190,6 +178,21 @@ TEST_F(Plots, EmptyPlotsAndNonAsciiTextStillDraw) {
   const DecodedPng png = decodePng(m_dir / "empty.png");
   EXPECT_EQ(png.width, 300);
   EXPECT_EQ(png.height, 200);
+}
+
+TEST_F(Plots, ExtremeValuesStillDraw) {
+  // Spans near the limits of double: huge, and too narrow for whole ticks at their magnitude.
+  const std::vector<PlotSeries> cases[] = {
+      {PlotSeries{"huge", {0, 1, 2}, {-1e299, 1e299, 1e301}}},
+      {PlotSeries{"narrow", {0, 1}, {1e18, std::nextafter(1e18, 2e18)}}},
+      {PlotSeries{"tiny", {1e-310, 2e-310}, {1e-300, 1e-299}}},
+  };
+  for (const std::vector<PlotSeries>& series : cases) {
+    writeLinePlot(m_dir / "extreme.png", LinePlot{"", "", "", false, series}, 400, 300);
+    EXPECT_EQ(decodePng(m_dir / "extreme.png").width, 400) << series[0].name;
+    writeLinePlot(m_dir / "extreme.png", LinePlot{"", "", "", true, series}, 400, 300);
+    EXPECT_EQ(decodePng(m_dir / "extreme.png").height, 300) << series[0].name;
+  }
 }
 
 TEST_F(Plots, BadPlotsAreErrors) {

@@ -29,6 +29,9 @@ constexpr int kTextScale = 2;
 constexpr uint32_t kMinPlotWidth = 200, kMinPlotHeight = 150;
 constexpr int kPixelsPerXTick = 120, kPixelsPerYTick = 70;
 constexpr int kMaxDecadeTicks = 8;
+constexpr double kMaxLinearTicks = 1000;
+// Larger magnitudes (and NaN) are not drawn: spans of such values would overflow.
+constexpr double kMaxPlotValue = 1e300;
 // Image strips: tiles are magnified to at least kStripMinTile pixels on their longest side and
 // box-filtered down to at most kStripMaxTile.
 constexpr uint32_t kStripMinTile = 128, kStripMaxTile = 512;
@@ -74,6 +77,12 @@ std::string formatDecade(int exponent) {
   return "1e" + std::to_string(exponent);
 }
 
+std::string shortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value == 0 ? 0.0 : value);
+  return text;
+}
+
 // Ends rounded out to whole steps, so ticks sit on both ends.
 Axis linearAxis(double low, double high, int tickCount) {
   if (!(low <= high)) {  // nothing to show
@@ -85,14 +94,22 @@ Axis linearAxis(double low, double high, int tickCount) {
     low -= pad;
     high += pad;
   }
-  const double step = niceStep(high - low, tickCount);
   Axis axis;
-  const long first = long(std::floor(low / step + 1e-9)), last = long(std::ceil(high / step - 1e-9));
-  axis.low = double(first) * step;
-  axis.high = double(last) * step;
-  for (long k = first; k <= last; ++k) {
-    axis.ticks.push_back(double(k) * step);
-    axis.labels.push_back(formatTick(double(k) * step, step));
+  const double step = niceStep(high - low, tickCount);
+  const double first = std::floor(low / step + 1e-9), last = std::ceil(high / step - 1e-9);
+  if (!(last - first >= 1 && last - first <= kMaxLinearTicks) || first + 1 == first) {
+    // A span too narrow for double precision at this magnitude: the data's own ends, unrounded.
+    axis.low = low;
+    axis.high = high;
+    axis.ticks = {low, high};
+    axis.labels = {shortNumber(low), shortNumber(high)};
+    return axis;
+  }
+  axis.low = first * step;
+  axis.high = last * step;
+  for (double k = first; k <= last; ++k) {
+    axis.ticks.push_back(k * step);
+    axis.labels.push_back(formatTick(k * step, step));
   }
   return axis;
 }
@@ -119,7 +136,7 @@ Axis logAxis(double low, double high) {
 }
 
 bool drawable(const LinePlot& plot, double x, double y) {
-  return std::isfinite(x) && std::isfinite(y) && (!plot.logY || y > 0);
+  return std::abs(x) <= kMaxPlotValue && std::abs(y) <= kMaxPlotValue && (!plot.logY || y > 0);
 }
 
 Rgb viridis(double t) {
@@ -132,12 +149,6 @@ Rgb viridis(double t) {
 }
 
 Rgb grey(uint8_t level) { return {level, level, level}; }
-
-std::string shortNumber(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value == 0 ? 0.0 : value);
-  return text;
-}
 
 void centredText(Canvas& canvas, int centre, int y, const std::string& text) {
   canvas.text(centre - Canvas::textWidth(text, kTextScale) / 2, y, text, kBlack, kTextScale);
@@ -332,8 +343,6 @@ void writeHeightfieldComparison(const fs::path& path, uint32_t nx, uint32_t nz, 
   auto panel = [&](const std::vector<float>& values) { return shrink > 1 ? io::downsample(values, nx, nz, shrink, w, h) : values; };
   const std::vector<float> shown[3] = {panel(std::vector<float>(recovered.begin(), recovered.end())),
                                        panel(std::vector<float>(truth.begin(), truth.end())), panel(difference)};
-  const std::function<Rgb(double)> heightColour = [&](double t) { return viridis(t); };
-  const std::function<Rgb(double)> differenceColour = [](double t) { return io::divergingColor(float(2 * t - 1)); };
 
   const int lineHeight = Canvas::textHeight(kTextScale);
   const char* captions[3] = {"recovered", "truth", "recovered - truth"};
@@ -353,9 +362,10 @@ void writeHeightfieldComparison(const fs::path& path, uint32_t nx, uint32_t nz, 
       }
   }
   const std::string heightLabels[3] = {shortNumber(low), shortNumber(0.5 * (low + high)), shortNumber(high)};
-  colourBar(canvas, kGap, barTop, column + kGap + panelWidth, heightColour, heightLabels);
+  colourBar(canvas, kGap, barTop, column + kGap + panelWidth, viridis, heightLabels);
   const std::string differenceLabels[3] = {shortNumber(-largestDifference), "0", shortNumber(largestDifference)};
-  colourBar(canvas, kGap + 2 * (column + kGap), barTop, panelWidth, differenceColour, differenceLabels);
+  colourBar(canvas, kGap + 2 * (column + kGap), barTop, panelWidth,
+            [](double t) { return io::divergingColor(float(2 * t - 1)); }, differenceLabels);
   canvas.text(kGap, footerTop, "x to the right, z down", kBlack, kTextScale);
   canvas.writePng(path);
 }
