@@ -373,6 +373,18 @@ TEST(Experiment, CompleteExampleParsesFieldByField) {
   EXPECT_EQ(x.seed, 42u);
 }
 
+// The examples of docs/optimize.md: the complete one is this test's data file, the minimal one parses.
+TEST(Experiment, DocumentationExamplesAreValid) {
+  const std::string doc = test::readAll(fs::path(VKTG_SOURCE_DIR) / "docs" / "optimize.md");
+  std::vector<std::string> examples;
+  for (size_t begin = doc.find("```json\n"); begin != std::string::npos; begin = doc.find("```json\n", begin + 1))
+    examples.push_back(doc.substr(begin + 8, doc.find("```", begin + 8) - begin - 8));
+  ASSERT_EQ(examples.size(), 2u);
+  EXPECT_EQ(json::parse(examples[0]), json::parse(test::readAll(kData / "complete.json")));
+  const Experiment minimal = parseExperimentJson(examples[1], "optimize.md", kData);
+  EXPECT_EQ(minimal.parameters.at(0).name, "laser_y");
+}
+
 TEST(Experiment, DefaultsOfAMinimalFile) {
   const json minimal = {{"version", 1},
                         {"scene", "terrain.json"},
