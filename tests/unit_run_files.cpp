@@ -212,7 +212,7 @@ TEST_F(RunFiles, ResumedLogErrors) {
   expectError([&] { RunLog(path, {"iteration"}, true, 0); }, {path.string(), "file not found"});
   writePlain(path, "iteration,loss\n0,4\n1,3\n2");
   const std::string before = readAll(path);
-  expectError([&] { RunLog(path, {"iteration", "loss"}, true, 3); }, {path.string(), "holds 2 complete rows", "follows 3"});
+  expectError([&] { RunLog(path, {"iteration", "loss"}, true, 3); }, {path.string(), "holds 2 complete rows", "covers 3"});
   expectError([&] { RunLog(path, {"iteration", "loss", "error"}, true, 1); },
               {path.string(), "header differs", "iteration,loss,error"});
   writePlain(path, "iteration,loss\n0,4\n1\n");

@@ -30,6 +30,7 @@ struct Shape {
   std::vector<glm::uvec3> triangles;  // indices into positions
   uint32_t material = 0;              // index into Scene::materials
   float emission = 0.0f;              // radiance emitted from the front face (winding order)
+  glm::uvec2 grid{0, 0};              // heightfields: vertices along x and z (positions row by row); else 0
 };
 
 struct PointLight {

@@ -161,7 +161,7 @@ RunLog::RunLog(const fs::path& path, const std::vector<std::string>& columns, bo
   const uint64_t rows = lines.size() - 1;
   if (rows < keepRows)
     fail(path.string(), "", "holds " + std::to_string(rows) + " complete rows, but the checkpoint the run resumes from "
-                            "follows " + std::to_string(keepRows));
+                            "covers " + std::to_string(keepRows));
   std::string kept = header + "\n";
   for (uint64_t row = 1; row <= keepRows; ++row) {
     if (fieldCount(lines[row]) != m_columns)

@@ -198,11 +198,12 @@ class SceneParser {
       return;
     }
     TriangleMesh mesh;
+    glm::uvec2 grid{0, 0};
     if (type == "rectangle") mesh = makeRectangle();
     if (type == "cube") mesh = makeCube();
     if (type == "sphere") mesh = makeIcosphere(o.uinteger("subdivisions", 3, 0, kMaxSphereSubdivisions));
     if (type == "heightfield") {
-      mesh = parseHeightfield(o);
+      mesh = parseHeightfield(o, grid);
       // One unit of a height in the file moves its vertex by the image of local +y.
       m_heightfieldUp[name] = glm::vec3(glm::mat3(transform) * glm::vec3(0, 1, 0));
     }
@@ -214,10 +215,11 @@ class SceneParser {
     shape.triangles = std::move(mesh.triangles);
     shape.material = material;
     shape.emission = emission;
+    shape.grid = grid;
     m_scene.shapes.push_back(std::move(shape));
   }
 
-  static TriangleMesh parseHeightfield(const JsonObject& o) {
+  static TriangleMesh parseHeightfield(const JsonObject& o, glm::uvec2& grid) {
     const JsonValue res = o.field("resolution");
     if (!res.json().is_array() || res.json().size() != 2) res.fail("wrong type: expected [nx, nz] (2 integers)");
     const uint32_t nx = res.element(0).uinteger(2, kMaxHeightfieldResolution);
@@ -233,6 +235,7 @@ class SceneParser {
                         std::to_string(nx) + " * " + std::to_string(nz) + "), got " + std::to_string(array.size()));
     std::vector<float> heights(array.size());
     for (size_t i = 0; i < array.size(); ++i) heights[i] = float(heightsField.element(i).number());
+    grid = {nx, nz};
     return makeHeightfield(nx, nz, float(s[0]), float(s[1]), heights);
   }
 
