@@ -1,35 +1,29 @@
 // EXR, NumPy and PNG outputs: exact round trips, graceful errors on bad EXR files, and PNG
 // previews decoded back with stb_image to check sizes and colours.
-#define STB_IMAGE_IMPLEMENTATION
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
-
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <random>
 
 #include "vktg/error.h"
 #include "support/file_test.h"
+#include "support/png_decode.h"
 #include "vktg/image_io.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
+using vktg::test::DecodedPng;
+using vktg::test::decodePng;
 using vktg::test::expectError;
 using vktg::test::readAll;
 using vktg::test::writePlain;
@@ -45,45 +39,12 @@ std::vector<std::string> exrChannelNames(const fs::path& path) {
   return names;
 }
 
-struct DecodedPng {
-  int width = 0, height = 0, channels = 0;
-  std::vector<uint8_t> pixels;
-  const uint8_t* at(int x, int y) const { return &pixels[size_t((y * width + x) * channels)]; }
-};
-
-DecodedPng decodePng(const fs::path& path) {
-  const std::string bytes = readAll(path);
-  EXPECT_GE(bytes.size(), 8u);
-  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
-  DecodedPng png;
-  uint8_t* data = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &png.width,
-                                        &png.height, &png.channels, 0);
-  EXPECT_NE(data, nullptr) << stbi_failure_reason();
-  if (data) {
-    png.pixels.assign(data, data + size_t(png.width) * png.height * png.channels);
-    stbi_image_free(data);
-  }
-  return png;
-}
-
 int srgbByte(float linear) {
   const float encoded = linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
   return int(std::lround(encoded * 255.0f));
 }
 
-class ImageIo : public ::testing::Test {
- protected:
-  void SetUp() override {
-    m_dir = fs::temp_directory_path() /
-            ("vktg-unit-image-io-" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
-    fs::create_directories(m_dir);
-  }
-  void TearDown() override {
-    std::error_code error;
-    fs::remove_all(m_dir, error);
-  }
-  fs::path m_dir;
-};
+class ImageIo : public vktg::test::TempDirTest {};
 
 // Values chosen to expose any lossy path: denormals, negative zero, extremes, non-dyadic fractions.
 std::vector<float> awkwardValues(size_t count, float seed) {

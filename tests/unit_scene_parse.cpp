@@ -302,6 +302,8 @@ TEST(SceneParse, ShapeTransformsAndTypes) {
   EXPECT_EQ(ground.triangles.size(), 4u);
   EXPECT_EQ(ground.positions[1], glm::vec3(0, 0, -0.5f));  // (i=1, j=0): height 1, moved down by 1
   EXPECT_EQ(ground.positions[0], glm::vec3(-2, -1, -0.5f));
+  EXPECT_EQ(ground.grid, glm::uvec2(3, 2));
+  EXPECT_EQ(box.grid, glm::uvec2(0, 0));
 }
 
 TEST(SceneParse, MeshShapeFromGltf) {

@@ -118,6 +118,14 @@ std::vector<ParameterBinding> bindParameters(const Scene& scene, const std::vect
 std::vector<std::string> selectParameters(const Scene& scene, const std::string& list,
                                           const std::string& field = "--param");
 
+// " (did you mean: a, b)" listing parameters whose names are close to `name` (or " (the scene
+// defines: ...)" when none is), for error messages about an unknown name.
+std::string parameterSuggestions(const Scene& scene, const std::string& name);
+
+// Whether `name` matches `pattern`, in which '*' matches any run of characters (including none)
+// and everything else matches itself.
+bool matchesWildcard(const std::string& pattern, const std::string& name);
+
 // The index in Scene::parameters of `name`; throws vktg::Error (naming `field`, listing close
 // matches) if there is none.
 uint32_t findParameter(const Scene& scene, const std::string& name, const std::string& field = "--param");

@@ -43,7 +43,16 @@ size_t countNonFinite(const std::vector<float>& pixels) {
   return size_t(std::count_if(pixels.begin(), pixels.end(), [](float v) { return !std::isfinite(v); }));
 }
 
-// Exposure multiplier for a radiance preview; 0 when there is nothing positive to show.
+float srgbEncode(float linear) {
+  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+uint8_t toByte(float unit) { return uint8_t(std::lround(std::clamp(unit, 0.0f, 1.0f) * 255.0f)); }
+
+}  // namespace
+
+namespace io {
+
 float radianceExposure(const std::vector<const std::vector<float>*>& layers) {
   std::vector<float> positive;
   for (const std::vector<float>* pixels : layers) {
@@ -55,18 +64,11 @@ float radianceExposure(const std::vector<const std::vector<float>*>& layers) {
   return kRadianceTarget / percentile(std::move(positive), kRadiancePercentile);
 }
 
-float srgbEncode(float linear) {
-  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
-}
-
-uint8_t toByte(float unit) { return uint8_t(std::lround(std::clamp(unit, 0.0f, 1.0f) * 255.0f)); }
-
 uint8_t radianceGrey(float value, float exposure) {
   if (!std::isfinite(value)) value = 0.0f;
   return toByte(srgbEncode(std::clamp(value * exposure, 0.0f, 1.0f)));
 }
 
-// Box-filters a layer down by an integer factor; partial blocks at the edges average what they cover.
 std::vector<float> downsample(const std::vector<float>& pixels, uint32_t width, uint32_t height, uint32_t factor,
                               uint32_t tileWidth, uint32_t tileHeight) {
   std::vector<float> tile(size_t(tileWidth) * tileHeight);
@@ -87,13 +89,20 @@ std::vector<float> downsample(const std::vector<float>& pixels, uint32_t width, 
   return tile;
 }
 
-}  // namespace
+std::array<uint8_t, 3> divergingColor(float t) {
+  t = std::clamp(t, -1.0f, 1.0f);
+  // White at zero, fading linearly to pure red (positive) or pure blue (negative) at |t| = 1.
+  const uint8_t fade = toByte(1.0f - std::abs(t));
+  return {t < 0.0f ? fade : uint8_t(255), fade, t > 0.0f ? fade : uint8_t(255)};
+}
+
+}  // namespace io
 
 void writePngRadiance(const fs::path& path, uint32_t width, uint32_t height, const std::vector<float>& pixels) {
   io::validateImage(path, width, height, pixels.size());
-  const float exposure = radianceExposure({&pixels});
+  const float exposure = io::radianceExposure({&pixels});
   std::vector<uint8_t> grey(pixels.size());
-  std::transform(pixels.begin(), pixels.end(), grey.begin(), [&](float v) { return radianceGrey(v, exposure); });
+  std::transform(pixels.begin(), pixels.end(), grey.begin(), [&](float v) { return io::radianceGrey(v, exposure); });
   const std::string png = io::encodePng(path, width, height, 1, grey);
   writeFileAtomic(path, png);
   warnNonFinite(path, countNonFinite(pixels));
@@ -109,12 +118,8 @@ float writePngDiverging(const fs::path& path, uint32_t width, uint32_t height, c
   std::vector<uint8_t> rgb(pixels.size() * 3);
   for (size_t i = 0; i < pixels.size(); ++i) {
     const float v = std::isfinite(pixels[i]) && scale > 0.0f ? pixels[i] / scale : 0.0f;
-    const float t = std::clamp(v, -1.0f, 1.0f);
-    // White at zero, fading linearly to pure red (positive) or pure blue (negative) at |v| = scale.
-    const uint8_t fade = toByte(1.0f - std::abs(t));
-    rgb[3 * i + 0] = t < 0.0f ? fade : 255;
-    rgb[3 * i + 1] = fade;
-    rgb[3 * i + 2] = t > 0.0f ? fade : 255;
+    const std::array<uint8_t, 3> colour = io::divergingColor(v);
+    std::copy(colour.begin(), colour.end(), rgb.begin() + std::ptrdiff_t(3 * i));
   }
   const std::string png = io::encodePng(path, width, height, 3, rgb);
   writeFileAtomic(path, png);
@@ -137,12 +142,12 @@ void writePngContactSheet(const fs::path& path, const ImageSet& images) {
   std::vector<const std::vector<float>*> tilePointers;
   size_t nonFinite = 0;
   for (const ImageLayer& layer : images.layers) {
-    tiles.push_back(downsample(layer.pixels, images.width, images.height, factor, tileWidth, tileHeight));
+    tiles.push_back(io::downsample(layer.pixels, images.width, images.height, factor, tileWidth, tileHeight));
     nonFinite += countNonFinite(layer.pixels);
   }
   for (const std::vector<float>& tile : tiles) tilePointers.push_back(&tile);
   // One exposure for the whole stack so brightness is comparable from bin to bin.
-  const float exposure = radianceExposure(tilePointers);
+  const float exposure = io::radianceExposure(tilePointers);
 
   std::vector<uint8_t> sheet(size_t(sheetWidth) * sheetHeight, kContactBackground);
   for (uint32_t index = 0; index < count; ++index) {
@@ -150,7 +155,7 @@ void writePngContactSheet(const fs::path& path, const ImageSet& images) {
     const uint32_t top = kContactGap + (index / columns) * (tileHeight + kContactGap);
     for (uint32_t y = 0; y < tileHeight; ++y) {
       for (uint32_t x = 0; x < tileWidth; ++x) {
-        sheet[size_t(top + y) * sheetWidth + left + x] = radianceGrey(tiles[index][size_t(y) * tileWidth + x], exposure);
+        sheet[size_t(top + y) * sheetWidth + left + x] = io::radianceGrey(tiles[index][size_t(y) * tileWidth + x], exposure);
       }
     }
   }

@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "vktg/gate.h"
+#include "vktg/image_io.h"
 #include "vktg/scene.h"
 
 namespace vktg {
@@ -38,14 +39,14 @@ struct TargetView {
 };
 
 struct Target {
-  std::string name;                 // unique; names images and log columns
+  std::string name;                 // unique, letters, digits, '_', '-', '.'; names images and log columns
   TargetView view;
   Gate gate;                        // default: the scene's gate; may be a transient stack
   double weight = 1;                // factor on this target's loss
   std::filesystem::path image;      // an EXR whose size and layers match the view and gate ...
   bool synthesize = false;          // ... or rendered at the truth with independent random numbers
   uint32_t synthesizeSpp = 4096;
-  uint32_t synthesizeSeed = 0x5eed;
+  uint32_t synthesizeSeed = 0x5eed;  // the parser's default: 0x5eed + the target's index
 };
 
 enum class LossType { L2, L1, RelativeL2 };
@@ -126,7 +127,22 @@ struct Experiment {
 Experiment loadExperiment(const std::filesystem::path& path);
 Experiment parseExperimentJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir);
 
-// The scene seen from a target: its camera pose and point lights moved as the view says.
+// The scene seen from a target: its camera pose and point lights moved as the view says, and the
+// target's gate.
 Scene sceneForTarget(const Scene& scene, const Target& target);
+
+// Checks of a target image (read from its EXR or synthesised). Each throws vktg::Error naming the
+// experiment file, the target's field ("targets[1].image"), the target and the problem.
+// `image` must have width x height pixels in `layers` layers:
+void checkTargetImageSize(const Experiment& experiment, size_t target, const ImageSet& image, uint32_t width,
+                          uint32_t height, uint32_t layers);
+// ... and no NaN or infinite pixel:
+void checkTargetImageFinite(const Experiment& experiment, size_t target, const ImageSet& image);
+// Reads a target's EXR (Target::image) and checks it against the camera of sceneForTarget and the
+// layers of the target's gate.
+ImageSet loadTargetImage(const Experiment& experiment, size_t target);
+
+// RMS of θ - truth over the parameters that have a truth; nullopt when none has one.
+std::optional<double> parameterError(const std::vector<ExperimentParameter>& parameters, const std::vector<double>& theta);
 
 }  // namespace vktg

@@ -20,13 +20,23 @@ struct LinePlot {
   std::vector<PlotSeries> series;
 };
 
-// Axes with ticks and numbers, one colour per series, a legend; written atomically.
+// Axes with ticks and numbers (ends rounded out to whole ticks; a log axis in whole decades), one
+// colour per series, a legend of the named series; written atomically. A point with a coordinate
+// that is not finite or beyond +-1e300 (or y <= 0 on a log axis) is not drawn and breaks its line. Throws vktg::Error naming the file for a
+// series whose x and y differ in length, a size below 200 x 150, or a failed write.
 void writeLinePlot(const std::filesystem::path& path, const LinePlot& plot, uint32_t width = 800, uint32_t height = 500);
 
-// Tiles side by side with captions, each tone-mapped with one shared exposure (first layer of each image).
+// Tiles side by side with captions under them. Each tile shows the sum of its image's layers (a
+// transient stack shows its total), tone-mapped with one exposure shared by all tiles so that they
+// compare by brightness; tiles are magnified to at least 128 pixels on their longest side or
+// box-filtered to at most 512. Throws vktg::Error naming the file for a malformed image.
 void writeImageStrip(const std::filesystem::path& path, const std::vector<std::pair<std::string, ImageSet>>& tiles);
 
-// Two height maps (nx x nz, row-major) side by side with their difference, one shared colour scale.
+// Two height maps (nx x nz, row-major: value j * nx + i at column i, row j, as a heightfield's
+// heights) side by side in one sequential colour scale (viridis), then their difference
+// (recovered - truth) in a diverging scale symmetric about 0, each with a labelled colour bar.
+// Panels are at most 240 pixels on their longest side (large grids are box-filtered). Throws
+// vktg::Error naming the file for maps of the wrong size or with non-finite values.
 void writeHeightfieldComparison(const std::filesystem::path& path, uint32_t nx, uint32_t nz,
                                 const std::vector<double>& recovered, const std::vector<double>& truth);
 

@@ -61,47 +61,6 @@ size_t editDistance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-std::string suggestions(const Scene& scene, const std::string& name) {
-  if (scene.parameters.empty()) return " (the scene defines no parameters; see \"parameters\" in docs/scene-format.md)";
-  constexpr size_t kMaxShown = 6;
-  std::vector<std::pair<size_t, std::string>> close;
-  const size_t allowed = std::max<size_t>(1, name.size() / 3);
-  for (const Parameter& p : scene.parameters) {
-    const size_t d = editDistance(name, p.name);
-    const bool prefix = !name.empty() && (p.name.rfind(name, 0) == 0 || name.rfind(p.name, 0) == 0);
-    if (d <= allowed || prefix) close.emplace_back(d, p.name);
-  }
-  std::stable_sort(close.begin(), close.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  std::string list;
-  const bool guessed = !close.empty();
-  if (!guessed)
-    for (const Parameter& p : scene.parameters) close.emplace_back(0, p.name);
-  for (size_t i = 0; i < close.size() && i < kMaxShown; ++i) list += (i ? ", " : "") + close[i].second;
-  if (close.size() > kMaxShown) list += ", ... (" + std::to_string(close.size() - kMaxShown) + " more)";
-  return (guessed ? " (did you mean: " : " (the scene defines: ") + list + ")";
-}
-
-// '*' matches any run of characters (including none); everything else matches itself.
-bool globMatch(const std::string& pattern, const std::string& text) {
-  size_t p = 0, t = 0, star = std::string::npos, resume = 0;
-  while (t < text.size()) {
-    if (p < pattern.size() && pattern[p] == '*') {
-      star = p++;
-      resume = t;
-    } else if (p < pattern.size() && pattern[p] == text[t]) {
-      ++p;
-      ++t;
-    } else if (star != std::string::npos) {
-      p = star + 1;
-      t = ++resume;
-    } else {
-      return false;
-    }
-  }
-  while (p < pattern.size() && pattern[p] == '*') ++p;
-  return p == pattern.size();
-}
-
 std::string trim(const std::string& text) {
   const size_t begin = text.find_first_not_of(" \t");
   if (begin == std::string::npos) return "";
@@ -225,10 +184,50 @@ std::string parameterProblem(const Scene& scene, const Parameter& p) {
   return "unknown parameter kind";
 }
 
+std::string parameterSuggestions(const Scene& scene, const std::string& name) {
+  if (scene.parameters.empty()) return " (the scene defines no parameters; see \"parameters\" in docs/scene-format.md)";
+  constexpr size_t kMaxShown = 6;
+  std::vector<std::pair<size_t, std::string>> close;
+  const size_t allowed = std::max<size_t>(1, name.size() / 3);
+  for (const Parameter& p : scene.parameters) {
+    const size_t d = editDistance(name, p.name);
+    const bool prefix = !name.empty() && (p.name.rfind(name, 0) == 0 || name.rfind(p.name, 0) == 0);
+    if (d <= allowed || prefix) close.emplace_back(d, p.name);
+  }
+  std::stable_sort(close.begin(), close.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::string list;
+  const bool guessed = !close.empty();
+  if (!guessed)
+    for (const Parameter& p : scene.parameters) close.emplace_back(0, p.name);
+  for (size_t i = 0; i < close.size() && i < kMaxShown; ++i) list += (i ? ", " : "") + close[i].second;
+  if (close.size() > kMaxShown) list += ", ... (" + std::to_string(close.size() - kMaxShown) + " more)";
+  return (guessed ? " (did you mean: " : " (the scene defines: ") + list + ")";
+}
+
+bool matchesWildcard(const std::string& pattern, const std::string& text) {
+  size_t p = 0, t = 0, star = std::string::npos, resume = 0;
+  while (t < text.size()) {
+    if (p < pattern.size() && pattern[p] == '*') {
+      star = p++;
+      resume = t;
+    } else if (p < pattern.size() && pattern[p] == text[t]) {
+      ++p;
+      ++t;
+    } else if (star != std::string::npos) {
+      p = star + 1;
+      t = ++resume;
+    } else {
+      return false;
+    }
+  }
+  while (p < pattern.size() && pattern[p] == '*') ++p;
+  return p == pattern.size();
+}
+
 uint32_t findParameter(const Scene& scene, const std::string& name, const std::string& field) {
   for (size_t i = 0; i < scene.parameters.size(); ++i)
     if (scene.parameters[i].name == name) return uint32_t(i);
-  fail(scene.source.string(), field, "unknown parameter \"" + name + "\"" + suggestions(scene, name));
+  fail(scene.source.string(), field, "unknown parameter \"" + name + "\"" + parameterSuggestions(scene, name));
 }
 
 glm::dvec3 moveVertex(const Parameter& p, const glm::dvec3& position, double theta) {
@@ -436,11 +435,11 @@ std::vector<std::string> selectParameters(const Scene& scene, const std::string&
     }
     bool matched = false;
     for (const Parameter& p : scene.parameters)
-      if (globMatch(name, p.name)) {
+      if (matchesWildcard(name, p.name)) {
         take(p.name);
         matched = true;
       }
-    if (!matched) fail(file, field, "\"" + name + "\" matches no parameter" + suggestions(scene, name.substr(0, name.find('*'))));
+    if (!matched) fail(file, field, "\"" + name + "\" matches no parameter" + parameterSuggestions(scene, name.substr(0, name.find('*'))));
   }
   if (!any || (!list.empty() && list.back() == ','))
     fail(file, field, "no parameter named: expected a list like \"a,b\" or \"h*\"");

@@ -2,11 +2,9 @@
 // which dispatches on the file extension.
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "scene/primitives.h"
 #include "scene/scene_values.h"
@@ -22,52 +20,6 @@ constexpr uint32_t kSceneVersion = 1;
 constexpr uint32_t kMaxResolution = 16384;
 constexpr uint32_t kMaxSphereSubdivisions = 8;  // 20 * 4^8 = 1.3M triangles
 constexpr uint32_t kMaxHeightfieldResolution = 4096;
-
-// Reads `type` of an object and checks it against the accepted names.
-std::string typeOf(const JsonValue& value, std::initializer_list<std::string_view> accepted) {
-  if (!value.json().is_object()) value.fail("wrong type: expected an object");
-  if (!value.json().contains("type")) vktg::fail(value.file, value.path + ".type", "missing required field");
-  const JsonValue type{&value.json()["type"], value.file, value.path + ".type"};
-  const std::string name = type.string();
-  std::string list;
-  for (std::string_view a : accepted) {
-    if (a == name) return name;
-    list += (list.empty() ? "" : ", ") + std::string(a);
-  }
-  type.fail("unknown type \"" + name + "\" (expected one of: " + list + ")");
-}
-
-// The JSON parser keeps the last of repeated keys silently; a repeated key is almost always a
-// mistake, so it is an error like any unknown field.
-Json parseJsonText(const std::string& text, const std::string& file) {
-  std::vector<std::set<std::string>> keysPerObject;
-  std::string duplicate;
-  auto callback = [&](int, Json::parse_event_t event, Json& parsed) {
-    if (event == Json::parse_event_t::object_start) keysPerObject.emplace_back();
-    if (event == Json::parse_event_t::object_end) keysPerObject.pop_back();
-    if (event == Json::parse_event_t::key && !keysPerObject.back().insert(parsed.get<std::string>()).second &&
-        duplicate.empty())
-      duplicate = parsed.get<std::string>();
-    return true;
-  };
-  Json json;
-  try {
-    json = Json::parse(text, callback);
-  } catch (const Json::parse_error& e) {
-    // nlohmann's message reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
-    std::string message = e.what();
-    const size_t at = message.find("parse error ");
-    if (at != std::string::npos) message = message.substr(at + 12);
-    fail(file, "", "malformed JSON (syntax error) " + message);
-  } catch (const Json::exception& e) {
-    // Other parser failures, e.g. "number overflow parsing '1e999'"; drop the "[json.exception...] " tag.
-    std::string message = e.what();
-    const size_t tag = message.find("] ");
-    fail(file, "", "malformed JSON: " + (tag == std::string::npos ? message : message.substr(tag + 2)));
-  }
-  if (!duplicate.empty()) fail(file, duplicate, "duplicate field (given more than once in one object)");
-  return json;
-}
 
 class SceneParser {
  public:
@@ -85,7 +37,7 @@ class SceneParser {
                    std::to_string(kSceneVersion) + ")");
     if (root.has("description")) root.field("description").string();
     parseCamera(root.field("camera"));
-    if (root.has("gate")) parseGate(root.field("gate"));
+    if (root.has("gate")) m_scene.gate = parseGateValue(root.field("gate"));
     if (root.has("materials")) parseMaterials(root.field("materials"));
     if (root.has("shapes")) {
       const JsonValue shapes = root.field("shapes");
@@ -142,49 +94,6 @@ class SceneParser {
       camera.normal = glm::normalize(normal);
       camera.width = camera.height = 1;
     }
-  }
-
-  void parseGate(const JsonValue& value) {
-    Gate& gate = m_scene.gate;
-    if (value.json().is_object() && value.json().contains("spec")) {
-      const JsonObject o(value, {"spec"});
-      try {
-        gate = parseGateSpec(o.field("spec").string(), o.pathOf("spec"));
-      } catch (const Error& e) {
-        fail(m_file, "", e.what());
-      }
-    } else {
-      const std::string type = typeOf(value, {"steady", "box", "gaussian", "truncated_gaussian", "bins"});
-      if (type == "steady") {
-        const JsonObject o(value, {"type"});
-        gate.type = GateType::Steady;
-      } else if (type == "box") {
-        const JsonObject o(value, {"type", "a", "b"});
-        gate.type = GateType::Box;
-        gate.a = o.field("a").length();
-        gate.b = o.field("b").length();
-      } else if (type == "gaussian") {
-        const JsonObject o(value, {"type", "mu", "sigma", "normalize"});
-        gate.type = GateType::Gaussian;
-        gate.mu = o.field("mu").length();
-        gate.sigma = o.field("sigma").length();
-        gate.normalize = o.boolean("normalize", false);
-      } else if (type == "truncated_gaussian") {
-        const JsonObject o(value, {"type", "mu", "sigma", "a", "b"});
-        gate.type = GateType::TruncatedGaussian;
-        gate.mu = o.field("mu").length();
-        gate.sigma = o.field("sigma").length();
-        gate.a = o.field("a").length();
-        gate.b = o.field("b").length();
-      } else {
-        const JsonObject o(value, {"type", "start", "width", "count"});
-        gate.type = GateType::Bins;
-        gate.binStart = o.field("start").length();
-        gate.binWidth = o.field("width").length();
-        gate.binCount = o.field("count").uinteger(1, 65536);
-      }
-    }
-    validateGate(gate, m_file, value.path);
   }
 
   void parseMaterials(const JsonValue& value) {
@@ -290,11 +199,12 @@ class SceneParser {
       return;
     }
     TriangleMesh mesh;
+    glm::uvec2 grid{0, 0};
     if (type == "rectangle") mesh = makeRectangle();
     if (type == "cube") mesh = makeCube();
     if (type == "sphere") mesh = makeIcosphere(o.uinteger("subdivisions", 3, 0, kMaxSphereSubdivisions));
     if (type == "heightfield") {
-      mesh = parseHeightfield(o);
+      mesh = parseHeightfield(o, grid);
       // One unit of a height in the file moves its vertex by the image of local +y.
       m_heightfieldUp[name] = glm::vec3(glm::mat3(transform) * glm::vec3(0, 1, 0));
     }
@@ -306,16 +216,11 @@ class SceneParser {
     shape.triangles = std::move(mesh.triangles);
     shape.material = material;
     shape.emission = emission;
-    if (type == "heightfield") shape.grid = gridOf(o);
+    shape.grid = grid;
     m_scene.shapes.push_back(std::move(shape));
   }
 
-  static glm::uvec2 gridOf(const JsonObject& heightfield) {
-    const JsonValue res = heightfield.field("resolution");
-    return glm::uvec2(res.element(0).uinteger(2, kMaxHeightfieldResolution), res.element(1).uinteger(2, kMaxHeightfieldResolution));
-  }
-
-  static TriangleMesh parseHeightfield(const JsonObject& o) {
+  static TriangleMesh parseHeightfield(const JsonObject& o, glm::uvec2& grid) {
     const JsonValue res = o.field("resolution");
     if (!res.json().is_array() || res.json().size() != 2) res.fail("wrong type: expected [nx, nz] (2 integers)");
     const uint32_t nx = res.element(0).uinteger(2, kMaxHeightfieldResolution);
@@ -331,6 +236,7 @@ class SceneParser {
                         std::to_string(nx) + " * " + std::to_string(nz) + "), got " + std::to_string(array.size()));
     std::vector<float> heights(array.size());
     for (size_t i = 0; i < array.size(); ++i) heights[i] = float(heightsField.element(i).number());
+    grid = {nx, nz};
     return makeHeightfield(nx, nz, float(s[0]), float(s[1]), heights);
   }
 
@@ -353,15 +259,7 @@ class SceneParser {
     r.maxDepth = o.uinteger("max_depth", r.maxDepth, 1, 1024);
     r.rouletteDepth = o.uinteger("roulette_depth", r.rouletteDepth, 1, 1024);
     r.seed = o.uinteger("seed", r.seed, 0, std::numeric_limits<uint32_t>::max());
-    if (o.has("nee")) {
-      const JsonValue nee = o.field("nee");
-      const std::string mode = nee.string();
-      if (mode == "auto") r.nee = NeeMode::Auto;
-      else if (mode == "standard") r.nee = NeeMode::Standard;
-      else if (mode == "ellipsoidal") r.nee = NeeMode::Ellipsoidal;
-      else if (mode == "mis") r.nee = NeeMode::Mis;
-      else nee.fail("unknown value \"" + mode + "\" (expected one of: auto, standard, ellipsoidal, mis)");
-    }
+    if (o.has("nee")) r.nee = readNeeMode(o.field("nee"));
   }
 
   // Parameters (docs/scene-format.md "Parameters"): what each type binds to, read strictly, then
@@ -535,18 +433,6 @@ class SceneParser {
   std::set<std::string> m_parameterNames;
   std::map<std::string, glm::vec3> m_heightfieldUp;  // heightfield shape -> world image of local +y
 };
-
-std::string readTextFile(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail(path.string(), "", "file not found");
-  if (!fs::is_regular_file(path, ec)) fail(path.string(), "", "cannot read: not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path.string(), "", "cannot read file (permission denied or I/O error)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) fail(path.string(), "", "cannot read file (I/O error)");
-  return text.str();
-}
 
 }  // namespace
 

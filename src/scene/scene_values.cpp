@@ -2,11 +2,12 @@
 
 #include <charconv>
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "vktg/error.h"
-#include "vktg/gate.h"
 
 namespace vktg {
 namespace {
@@ -102,6 +103,16 @@ const Json& JsonValue::array() const {
   return *value;
 }
 
+std::string JsonValue::oneOf(std::initializer_list<std::string_view> accepted) const {
+  const std::string text = string();
+  std::string list;
+  for (std::string_view a : accepted) {
+    if (a == text) return text;
+    list += (list.empty() ? "" : ", ") + std::string(a);
+  }
+  fail("unknown value \"" + text + "\" (expected one of: " + list + ")");
+}
+
 JsonObject::JsonObject(const JsonValue& value, const std::vector<std::string_view>& allowed) : m_self(value) {
   if (!value.json().is_object()) value.fail("wrong type: expected an object, got " + typeName(value.json()));
   for (const auto& item : value.json().items()) {
@@ -159,6 +170,113 @@ void requireAbove(const JsonValue& where, double value, double lo) {
 
 void requireAtLeast(const JsonValue& where, double value, double lo) {
   if (!(value >= lo)) where.fail("out of range: must be >= " + formatNumber(lo) + ", got " + formatNumber(value));
+}
+
+std::string readTextFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) vktg::fail(path.string(), "", "file not found");
+  if (!std::filesystem::is_regular_file(path, ec)) vktg::fail(path.string(), "", "cannot read: not a regular file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) vktg::fail(path.string(), "", "cannot read file (permission denied or I/O error)");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) vktg::fail(path.string(), "", "cannot read file (I/O error)");
+  return text.str();
+}
+
+Json parseJsonText(const std::string& text, const std::string& file) {
+  std::vector<std::set<std::string>> keysPerObject;
+  std::string duplicate;
+  auto callback = [&](int, Json::parse_event_t event, Json& parsed) {
+    if (event == Json::parse_event_t::object_start) keysPerObject.emplace_back();
+    if (event == Json::parse_event_t::object_end) keysPerObject.pop_back();
+    if (event == Json::parse_event_t::key && !keysPerObject.back().insert(parsed.get<std::string>()).second &&
+        duplicate.empty())
+      duplicate = parsed.get<std::string>();
+    return true;
+  };
+  Json json;
+  try {
+    json = Json::parse(text, callback);
+  } catch (const Json::parse_error& e) {
+    // nlohmann's message reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
+    std::string message = e.what();
+    const size_t at = message.find("parse error ");
+    if (at != std::string::npos) message = message.substr(at + 12);
+    vktg::fail(file, "", "malformed JSON (syntax error) " + message);
+  } catch (const Json::exception& e) {
+    // Other parser failures, e.g. "number overflow parsing '1e999'"; drop the "[json.exception...] " tag.
+    std::string message = e.what();
+    const size_t tag = message.find("] ");
+    vktg::fail(file, "", "malformed JSON: " + (tag == std::string::npos ? message : message.substr(tag + 2)));
+  }
+  if (!duplicate.empty()) vktg::fail(file, duplicate, "duplicate field (given more than once in one object)");
+  return json;
+}
+
+std::string typeOf(const JsonValue& value, std::initializer_list<std::string_view> accepted) {
+  if (!value.json().is_object()) value.fail("wrong type: expected an object");
+  if (!value.json().contains("type")) vktg::fail(value.file, value.path + ".type", "missing required field");
+  const JsonValue type{&value.json()["type"], value.file, value.path + ".type"};
+  const std::string name = type.string();
+  std::string list;
+  for (std::string_view a : accepted) {
+    if (a == name) return name;
+    list += (list.empty() ? "" : ", ") + std::string(a);
+  }
+  type.fail("unknown type \"" + name + "\" (expected one of: " + list + ")");
+}
+
+Gate parseGateValue(const JsonValue& value) {
+  Gate gate;
+  if (value.json().is_object() && value.json().contains("spec")) {
+    const JsonObject o(value, {"spec"});
+    try {
+      gate = parseGateSpec(o.field("spec").string(), o.pathOf("spec"));
+    } catch (const Error& e) {
+      vktg::fail(value.file, "", e.what());
+    }
+  } else {
+    const std::string type = typeOf(value, {"steady", "box", "gaussian", "truncated_gaussian", "bins"});
+    if (type == "steady") {
+      const JsonObject o(value, {"type"});
+      gate.type = GateType::Steady;
+    } else if (type == "box") {
+      const JsonObject o(value, {"type", "a", "b"});
+      gate.type = GateType::Box;
+      gate.a = o.field("a").length();
+      gate.b = o.field("b").length();
+    } else if (type == "gaussian") {
+      const JsonObject o(value, {"type", "mu", "sigma", "normalize"});
+      gate.type = GateType::Gaussian;
+      gate.mu = o.field("mu").length();
+      gate.sigma = o.field("sigma").length();
+      gate.normalize = o.boolean("normalize", false);
+    } else if (type == "truncated_gaussian") {
+      const JsonObject o(value, {"type", "mu", "sigma", "a", "b"});
+      gate.type = GateType::TruncatedGaussian;
+      gate.mu = o.field("mu").length();
+      gate.sigma = o.field("sigma").length();
+      gate.a = o.field("a").length();
+      gate.b = o.field("b").length();
+    } else {
+      const JsonObject o(value, {"type", "start", "width", "count"});
+      gate.type = GateType::Bins;
+      gate.binStart = o.field("start").length();
+      gate.binWidth = o.field("width").length();
+      gate.binCount = o.field("count").uinteger(1, 65536);
+    }
+  }
+  validateGate(gate, value.file, value.path);
+  return gate;
+}
+
+NeeMode readNeeMode(const JsonValue& value) {
+  const std::string mode = value.oneOf({"auto", "standard", "ellipsoidal", "mis"});
+  if (mode == "standard") return NeeMode::Standard;
+  if (mode == "ellipsoidal") return NeeMode::Ellipsoidal;
+  if (mode == "mis") return NeeMode::Mis;
+  return NeeMode::Auto;
 }
 
 }  // namespace vktg

@@ -1,14 +1,20 @@
-// Strict readers for JSON scene fields. Every reader knows the file and the JSON path of the value
-// it reads, so every error reads "file: shapes[2].material: problem" (vktg::fail). Objects are
-// opened with the list of fields they allow: anything else is an error, so typos never pass.
+// Strict readers for JSON files (scenes, experiments). Every reader knows the file and the JSON path
+// of the value it reads, so every error reads "file: shapes[2].material: problem" (vktg::fail).
+// Objects are opened with the list of fields they allow: anything else is an error, so typos never
+// pass.
 #pragma once
 #include <cstdint>
+#include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
+
+#include "vktg/gate.h"
+#include "vktg/scene.h"
 
 namespace vktg {
 
@@ -33,6 +39,8 @@ struct JsonValue {
   glm::vec3 vec3() const;                 // [x, y, z] of finite numbers
   std::vector<double> numbers(size_t count) const;  // array of exactly `count` finite numbers
   const Json& array() const;              // checks the type; elements via element()
+  // A string from `accepted`; anything else fails "unknown value ... (expected one of: ...)".
+  std::string oneOf(std::initializer_list<std::string_view> accepted) const;
 };
 
 // A JSON object whose fields are restricted to a known set.
@@ -64,5 +72,22 @@ void requireAbove(const JsonValue& where, double value, double lo);             
 void requireAtLeast(const JsonValue& where, double value, double lo);             // v >= lo
 
 std::string formatNumber(double value);
+
+// The whole of a text file; fails naming the file if it is missing, not a regular file or unreadable.
+std::string readTextFile(const std::filesystem::path& path);
+
+// Parses JSON text. Syntax errors name the line and column; a key given twice in one object is an
+// error (the JSON library would silently keep the last one).
+Json parseJsonText(const std::string& text, const std::string& file);
+
+// The `type` field of an object, which must be one of `accepted`.
+std::string typeOf(const JsonValue& value, std::initializer_list<std::string_view> accepted);
+
+// A gate object ({"type": "box", "a": 1, "b": 2}, ...) or {"spec": "box:1,2"}, validated
+// (docs/scene-format.md "Gate").
+Gate parseGateValue(const JsonValue& value);
+
+// "auto", "standard", "ellipsoidal" or "mis".
+NeeMode readNeeMode(const JsonValue& value);
 
 }  // namespace vktg

@@ -1,8 +1,11 @@
 // Helpers of the CPU-only file tests (header-only: `unit` tests link no test-support library).
 #pragma once
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -35,5 +38,22 @@ void expectError(Body body, const std::vector<std::string>& parts) {
           << "message '" << error.what() << "' lacks '" << part << "'";
   }
 }
+
+// A fixture with a fresh directory per test (unique across concurrent test processes), removed
+// afterwards.
+class TempDirTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    m_dir = std::filesystem::temp_directory_path() /
+            ("vktg-" + std::string(testing::UnitTest::GetInstance()->current_test_info()->test_suite_name()) + "-" +
+             std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
+    std::filesystem::create_directories(m_dir);
+  }
+  void TearDown() override {
+    std::error_code error;
+    std::filesystem::remove_all(m_dir, error);
+  }
+  std::filesystem::path m_dir;
+};
 
 }  // namespace vktg::test
