@@ -39,6 +39,7 @@ Checkpoint sample() {
   c.optimizer.second = {1e-20, 0.0, 3.0, std::numeric_limits<double>::quiet_NaN()};
   c.bvhTheta = {0.3, 0.2, 0.1, 0.0};
   c.seconds = 12.345678901234567;
+  c.adjointScale = 0x1p40 / 3.0;
   c.initialLoss = {0.25, 1e-9};
   return c;
 }
@@ -52,6 +53,7 @@ void expectSame(const Checkpoint& a, const Checkpoint& b) {
   EXPECT_TRUE(sameBits(a.optimizer.second, b.optimizer.second));
   EXPECT_TRUE(sameBits(a.bvhTheta, b.bvhTheta));
   EXPECT_TRUE(sameBits({a.seconds}, {b.seconds}));
+  EXPECT_TRUE(sameBits({a.adjointScale}, {b.adjointScale}));
   EXPECT_TRUE(sameBits(a.initialLoss, b.initialLoss));
 }
 
@@ -116,26 +118,27 @@ void putU64(std::string& bytes, size_t offset, uint64_t value) {
 TEST_F(RunFiles, InconsistentCheckpointsAreRejectedEvenWithAValidHash) {
   writeCheckpoint(m_dir / "full.bin", sample());
   const std::string bytes = readAll(m_dir / "full.bin");
-  // Layout: magic 0-7, version 8-11, iteration 12, seconds 20, steps 28, counts from 36: parameters,
-  // first, second, bvh, losses; the first name's length at 76.
+  // Layout: magic 0-7, version 8-11, iteration 12, seconds 20, steps 28, adjoint scale 36, counts
+  // from 44: parameters, first, second, bvh, losses; the first name's length at 84.
   struct Forgery {
     const char* expected;
     std::function<void(std::string&)> edit;
   };
   const Forgery forgeries[] = {
-      {"unsupported checkpoint version 2", [](std::string& b) { b[8] = 2; }},
-      {"mismatched sizes: 3 second moments for 4 parameters", [](std::string& b) { putU64(b, 52, 3); }},
-      {"mismatched sizes: 3 first moments for 4 parameters", [](std::string& b) { putU64(b, 44, 3); }},
-      {"mismatched sizes: 2 BVH parameters for 4 parameters", [](std::string& b) { putU64(b, 60, 2); }},
+      {"unsupported checkpoint version 3", [](std::string& b) { b[8] = 3; }},
+      {"mismatched sizes: 3 second moments for 4 parameters", [](std::string& b) { putU64(b, 60, 3); }},
+      {"mismatched sizes: 3 first moments for 4 parameters", [](std::string& b) { putU64(b, 52, 3); }},
+      {"mismatched sizes: 2 BVH parameters for 4 parameters", [](std::string& b) { putU64(b, 68, 2); }},
       {"parameter names do not fit",
        [](std::string& b) {
-         for (size_t offset : {36, 44, 52, 60}) putU64(b, offset, uint64_t(1) << 60);
+         for (size_t offset : {44, 52, 60, 68}) putU64(b, offset, uint64_t(1) << 60);
        }},
-      {"initial losses: 1152921504606846976 values do not fit", [](std::string& b) { putU64(b, 68, uint64_t(1) << 60); }},
-      {"unexpected bytes after the last field", [](std::string& b) { putU64(b, 68, 1); }},
-      {"invalid name", [](std::string& b) { b[80] = ','; }},
-      {"truncated", [](std::string& b) { b[76] = char(200); }},
+      {"initial losses: 1152921504606846976 values do not fit", [](std::string& b) { putU64(b, 76, uint64_t(1) << 60); }},
+      {"unexpected bytes after the last field", [](std::string& b) { putU64(b, 76, 1); }},
+      {"invalid name", [](std::string& b) { b[88] = ','; }},
+      {"truncated", [](std::string& b) { b[84] = char(200); }},
       {"not a finite, non-negative number", [](std::string& b) { putU64(b, 20, 0xfff0000000000000ull); }},
+      {"adjoint scale", [](std::string& b) { putU64(b, 36, 0x7ff8000000000000ull); }},
   };
   const fs::path forged = m_dir / "forged.bin";
   for (const Forgery& f : forgeries) {
@@ -179,6 +182,12 @@ TEST_F(RunFiles, CheckpointMustMatchTheExperiment) {
   Checkpoint oneTarget = c;
   oneTarget.initialLoss = {1};
   expectError([&] { checkCheckpointMatches(path, oneTarget, x); }, {"initial losses of 1 targets", "has 2"});
+  // Stopped during its first iteration: no loss yet, which is only valid at iteration 0.
+  Checkpoint first = c;
+  first.initialLoss.clear();
+  checkCheckpointMatches(path, first, x);
+  first.iteration = 1;
+  expectError([&] { checkCheckpointMatches(path, first, x); }, {"initial losses of 0 targets", "has 2"});
 }
 
 TEST_F(RunFiles, LogWritesAHeaderAndExactRows) {

@@ -13,5 +13,6 @@ int runBench(const std::vector<std::string>& args);
 int runInspect(const std::vector<std::string>& args);
 int runGrad(const std::vector<std::string>& args);
 int runFd(const std::vector<std::string>& args);
+int runOptimize(const std::vector<std::string>& args);
 
 }  // namespace vktg::cli

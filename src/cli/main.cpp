@@ -22,6 +22,7 @@ const Subcommand kSubcommands[] = {
     {"render", vktg::cli::runRender, "render a time-gated image or transient stack"},
     {"grad", vktg::cli::runGrad, "derivative images with respect to scene parameters"},
     {"fd", vktg::cli::runFd, "finite-difference derivative (the reference for grad)"},
+    {"optimize", vktg::cli::runOptimize, "recover scene parameters from time-of-flight images"},
     {"bench", vktg::cli::runBench, "accuracy versus time and throughput benchmarks"},
     {"inspect", vktg::cli::runInspect, "sizes, layers and statistics of an EXR output"},
     {"info", vktg::cli::runInfo, "Vulkan devices, features and limits"},

@@ -54,6 +54,8 @@ struct DeviceScene::UpdateResources {
 };
 
 DeviceScene::DeviceScene(VulkanContext& context, const Scene& scene) : m_context(context), m_scene(scene) {
+  for (const PointLight& light : scene.pointLights) m_lightBase.push_back(light.position);
+  m_lightsAtTheta = m_lightBase;
   build(scene);
 }
 
@@ -61,6 +63,7 @@ DeviceScene::DeviceScene(VulkanContext& context, const ParameterModel& model, st
                          std::span<const double> buildTheta)
     : m_context(context), m_model(&model), m_buildTheta(buildTheta.begin(), buildTheta.end()) {
   m_update = std::make_unique<UpdateResources>(context, model);
+  for (const PointLight& light : model.baseScene().pointLights) m_lightBase.push_back(light.position);
   Scene atBuild = model.sceneAt(buildTheta);
   m_scene = atBuild;
   build(atBuild);
@@ -91,6 +94,8 @@ void DeviceScene::update(std::span<const double> theta, bool checkQuality) {
   if (!m_model) throw Error("internal: update() of a scene without parameters");
   m_theta.assign(theta.begin(), theta.end());
   m_model->setScalars(m_scene, theta);
+  m_lightsAtTheta.clear();
+  for (const PointLight& light : m_scene.pointLights) m_lightsAtTheta.push_back(light.position);
   if (m_model->movesVertices()) {
     std::vector<float> values(theta.begin(), theta.end());
     m_update->theta.upload(m_context, values.data(), values.size() * sizeof(float));
@@ -154,10 +159,19 @@ void DeviceScene::uploadTables() {
   m_gpu->lights.upload(m_context, m_prepared.lights.data(), m_prepared.lights.size() * sizeof(gpu::GpuLight));
 }
 
-void DeviceScene::setPointLightPosition(uint32_t light, const glm::vec3& position) {
-  if (light >= m_scene.pointLights.size()) throw Error("internal: point light index out of range");
-  if (m_scene.pointLights[light].position == position) return;
-  m_scene.pointLights[light].position = position;
+void DeviceScene::placePointLights(const std::vector<std::pair<uint32_t, glm::vec3>>& viewPositions) {
+  std::vector<glm::vec3> placed = m_lightsAtTheta;
+  for (const auto& [light, position] : viewPositions) {
+    if (light >= placed.size()) throw Error("internal: point light index out of range");
+    placed[light] = position + (m_lightsAtTheta[light] - m_lightBase[light]);
+  }
+  bool changed = false;
+  for (size_t i = 0; i < placed.size(); ++i)
+    if (m_scene.pointLights[i].position != placed[i]) {
+      m_scene.pointLights[i].position = placed[i];
+      changed = true;
+    }
+  if (!changed) return;
   prepareLights(m_prepared, m_scene);
   m_gpu->lights.upload(m_context, m_prepared.lights.data(), m_prepared.lights.size() * sizeof(gpu::GpuLight));
 }

@@ -52,8 +52,10 @@ class DeviceScene {
   const Buffer& edges(const std::vector<bool>& movingVertex, const std::vector<bool>& deformingVertex);
   uint32_t edgeCount() const { return m_edgeCount; }
 
-  // Points a point light (Scene::pointLights index) somewhere else, e.g. a target's laser position.
-  void setPointLightPosition(uint32_t light, const glm::vec3& position);
+  // Places the point lights for one view (a target's laser positions): a light the view names sits
+  // at the view's position plus what the parameters move it by at the current θ; every other light
+  // sits where θ puts it. Uploads only when a position changes.
+  void placePointLights(const std::vector<std::pair<uint32_t, glm::vec3>>& viewPositions);
 
   std::span<const double> theta() const { return m_theta; }
   std::span<const double> buildTheta() const { return m_buildTheta; }
@@ -71,6 +73,8 @@ class DeviceScene {
   PreparedScene m_prepared;
   std::unique_ptr<GpuScene> m_gpu;
   std::vector<double> m_theta, m_buildTheta;
+  std::vector<glm::vec3> m_lightBase;     // point lights as the scene file places them
+  std::vector<glm::vec3> m_lightsAtTheta;  // ... and where θ puts them
   double m_buildCost = 0, m_lastSahRatio = 1;
   uint32_t m_rebuilds = 0;
 

@@ -229,6 +229,8 @@ namespace {
 // headroom below the int64 range, and 40 bits of resolution (far finer than the noise of any
 // Monte Carlo gradient) for the largest entries.
 constexpr double kTargetBits = 40, kCoarsestBits = 24;
+// Renders of one gradient at most: scale corrections after overflow, all-zero or coarse sums.
+constexpr int kAttempts = 6;
 
 double powerOfTwoScale(double largest, double scale) {
   return std::ldexp(scale, int(std::lround(kTargetBits - std::log2(std::max(largest, 1.0)))));
@@ -249,9 +251,6 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
   const GradientLayout layout = gradientLayout(scene.scene(), scene.prepared());
   if (!state.accumulator || state.accumulator->layout().total != layout.total)
     state.accumulator = std::make_unique<GradientAccumulator>(context, layout);
-  // A first scale: the adjoint-weighted images bound what the value terms can add up to.
-  if (!(state.scale > 0)) state.scale = std::ldexp(1.0, int(kTargetBits) - 20);
-
   std::vector<Buffer> adjointBuffers;
   for (const AdjointView& view : views) {
     std::vector<float> flat;
@@ -259,16 +258,27 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     adjointBuffers.emplace_back(context, std::max<size_t>(16, flat.size() * sizeof(float)), MemoryKind::Device, "adjoint.image");
     adjointBuffers.back().upload(context, flat.data(), flat.size() * sizeof(float));
   }
+  // A first scale: contributions are adjoint values times derivatives of sample values, so scale by
+  // the largest adjoint value (a power of two, to keep every scale exact).
+  if (!(state.scale > 0)) {
+    double largestAdjoint = 0;
+    for (const AdjointView& view : views)
+      for (const ImageLayer& layer : view.adjoint->layers)
+        for (float a : layer.pixels) largestAdjoint = std::max(largestAdjoint, double(std::abs(a)));
+    state.scale = std::ldexp(1.0, int(kTargetBits) - 20 - (largestAdjoint > 0 ? int(std::ceil(std::log2(largestAdjoint))) : 0));
+  }
   const uint32_t targets = adjointTargets(*model);
+  const double startScale = state.scale;
+  int zeroRetries = 0;
   // A pass that overflowed the accumulators is redone with a coarser scale, one whose largest entry
   // is too coarse with a finer one: both follow from deterministic sums, so a rerun repeats them.
-  for (int attempt = 0; attempt < 4; ++attempt) {
+  for (int attempt = 0; attempt < kAttempts; ++attempt) {
     result.attempts++;
     state.accumulator->clear();
     RenderStats stats;
     for (size_t v = 0; v < views.size(); ++v) {
       const AdjointView& view = views[v];
-      for (const auto& [light, position] : view.lightPositions) scene.setPointLightPosition(light, position);
+      scene.placePointLights(view.lightPositions);
       AdjointTarget target{&adjointBuffers[v], state.accumulator.get(), state.scale, targets};
       for (TermPass pass : termPasses(plans[v], view.setup.gate, options)) {
         RenderSetup termSetup = view.setup;
@@ -283,9 +293,17 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
       state.scale = std::ldexp(state.scale, -20);
       continue;
     }
+    // All zero: either no sample depends on θ, or every contribution rounded to 0 at this scale.
+    // Two much finer scales tell them apart; a gradient still zero then is one.
+    if (largest == 0 && zeroRetries < 2 && attempt + 1 < kAttempts) {
+      ++zeroRetries;
+      state.scale = std::ldexp(state.scale, 30);
+      continue;
+    }
+    if (largest == 0) state.scale = startScale;
     const double next = powerOfTwoScale(largest, state.scale);
     const bool tooCoarse = largest > 0 && largest < std::ldexp(1.0, int(kCoarsestBits));
-    if (tooCoarse && attempt + 1 < 4) {
+    if (tooCoarse && attempt + 1 < kAttempts) {
       state.scale = next;
       continue;
     }

@@ -2,7 +2,7 @@
 //
 // Checkpoint layout, little-endian whatever the host:
 //   "VKTGCKPT"  u32 version
-//   u64 iteration, f64 seconds, u64 optimizer steps
+//   u64 iteration, f64 seconds, u64 optimizer steps, f64 adjoint scale
 //   u64 counts: parameters K, first moments, second moments, bvhTheta, initial losses
 //   K names as (u32 length, bytes); then the five double arrays in that order
 //   u64 FNV-1a hash of every byte before it
@@ -26,7 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr char kMagic[8] = {'V', 'K', 'T', 'G', 'C', 'K', 'P', 'T'};
-constexpr uint32_t kCheckpointVersion = 1;
+constexpr uint32_t kCheckpointVersion = 2;
 constexpr size_t kHeaderBytes = sizeof kMagic + 4;
 constexpr size_t kHashBytes = 8;
 
@@ -201,6 +201,7 @@ void writeCheckpoint(const fs::path& path, const Checkpoint& checkpoint) {
   out.u64(checkpoint.iteration);
   out.f64(checkpoint.seconds);
   out.u64(checkpoint.optimizer.steps);
+  out.f64(checkpoint.adjointScale);
   for (size_t n : {checkpoint.theta.size(), checkpoint.optimizer.first.size(), checkpoint.optimizer.second.size(),
                    checkpoint.bvhTheta.size(), checkpoint.initialLoss.size()})
     out.u64(n);
@@ -233,6 +234,7 @@ Checkpoint readCheckpoint(const fs::path& path) {
   checkpoint.iteration = in.u64();
   checkpoint.seconds = in.f64();
   checkpoint.optimizer.steps = in.u64();
+  checkpoint.adjointScale = in.f64();
   const uint64_t count = in.u64(), first = in.u64(), second = in.u64(), bvh = in.u64(), losses = in.u64();
   const std::string problem = sizeProblem(count, count, first, second, bvh);
   if (!problem.empty()) in.corrupt("mismatched sizes: " + problem);
@@ -252,6 +254,8 @@ Checkpoint readCheckpoint(const fs::path& path) {
   if (in.left() != 0) in.corrupt(std::to_string(in.left()) + " unexpected bytes after the last field");
   if (!(checkpoint.seconds >= 0) || !std::isfinite(checkpoint.seconds))
     in.corrupt("elapsed time " + std::to_string(checkpoint.seconds) + " s is not a finite, non-negative number");
+  if (!(checkpoint.adjointScale >= 0) || !std::isfinite(checkpoint.adjointScale))
+    in.corrupt("adjoint scale " + std::to_string(checkpoint.adjointScale) + " is not a finite, non-negative number");
   return checkpoint;
 }
 
@@ -264,7 +268,9 @@ void checkCheckpointMatches(const fs::path& path, const Checkpoint& checkpoint, 
     if (checkpoint.names[i] != parameters[i].name)
       fail(path.string(), "", "written for other parameters: parameter " + std::to_string(i) + " is \"" +
                                   checkpoint.names[i] + "\" there and \"" + parameters[i].name + "\" in the experiment");
-  if (checkpoint.initialLoss.size() != experiment.targets.size())
+  // A run stopped before its first loss has none yet.
+  const bool beforeFirstLoss = checkpoint.iteration == 0 && checkpoint.initialLoss.empty();
+  if (checkpoint.initialLoss.size() != experiment.targets.size() && !beforeFirstLoss)
     fail(path.string(), "", "holds initial losses of " + std::to_string(checkpoint.initialLoss.size()) +
                                 " targets, but the experiment has " + std::to_string(experiment.targets.size()));
 }

@@ -35,6 +35,7 @@ struct Checkpoint {
   OptimizerState optimizer;
   std::vector<double> bvhTheta;           // θ of the scene the device BVH was last built from
   double seconds = 0;                     // wall time spent so far
+  double adjointScale = 0;                // fixed-point scale of the gradient accumulators (0: not chosen)
   std::vector<double> initialLoss;        // per target, for relative reporting
 };
 
@@ -44,7 +45,7 @@ void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkp
 // Throws vktg::Error naming the file for a missing, truncated or malformed checkpoint.
 Checkpoint readCheckpoint(const std::filesystem::path& path);
 // Throws vktg::Error naming the checkpoint file unless it was written for this experiment: the
-// same parameter names in the same order, and one initial loss per target.
+// same parameter names in the same order, and one initial loss per target (none before iteration 1).
 void checkCheckpointMatches(const std::filesystem::path& path, const Checkpoint& checkpoint, const Experiment& experiment);
 
 }  // namespace vktg

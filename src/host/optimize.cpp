@@ -1,0 +1,370 @@
+#include "host/optimize.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <numeric>
+#include <optional>
+
+#include "host/gradient.h"
+#include "host/interrupt.h"
+#include "host/renderer.h"
+#include "opt/experiment.h"
+#include "opt/loss.h"
+#include "opt/optimizer.h"
+#include "opt/plot.h"
+#include "opt/regularizer.h"
+#include "opt/run_directory.h"
+#include "opt/run_files.h"
+#include "vktg/error.h"
+#include "vktg/parameter_model.h"
+
+namespace vktg {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The device BVH's quality is checked every this many iterations (deterministic: by iteration).
+constexpr uint64_t kBvhCheckInterval = 8;
+
+// Random numbers of iteration `iteration`, target `target` and use `use` (0: the render the loss
+// comes from, 1: the gradient's renders; independent, as THEORY.md §7 requires): a hash of
+// (seed, iteration, target, use).
+uint32_t seedFor(uint32_t seed, uint64_t iteration, size_t target, uint32_t use) {
+  uint64_t x = (uint64_t(seed) << 32) ^ (iteration * 0x9E3779B97F4A7C15ull) ^ (uint64_t(target) << 8) ^ use;
+  x ^= x >> 30;
+  x *= 0xBF58476D1CE4E5B9ull;
+  x ^= x >> 27;
+  x *= 0x94D049BB133111EBull;
+  x ^= x >> 31;
+  return uint32_t(x);
+}
+
+std::string formatSeconds(double s) {
+  char text[32];
+  if (s < 90) std::snprintf(text, sizeof text, "%.0fs", s);
+  else if (s < 5400) std::snprintf(text, sizeof text, "%.0fm%02.0fs", std::floor(s / 60), std::fmod(s, 60));
+  else std::snprintf(text, sizeof text, "%.0fh%02.0fm", std::floor(s / 3600), std::fmod(s / 60, 60));
+  return text;
+}
+
+// How target t is rendered: its camera and gate, the experiment's render settings, its lights.
+struct TargetSetup {
+  RenderSetup setup;
+  std::vector<std::pair<uint32_t, glm::vec3>> lights;
+};
+
+TargetSetup targetSetup(const Experiment& e, size_t t) {
+  const Target& target = e.targets[t];
+  TargetSetup s;
+  Scene seen = sceneForTarget(e.scene, target);
+  s.setup = RenderSetup::of(seen);
+  s.setup.gate = target.gate;
+  if (e.budget.maxDepth > 0) s.setup.settings.maxDepth = e.budget.maxDepth;
+  s.lights = target.view.lightPositions;
+  return s;
+}
+
+// The gate as θ sees it: shifted by the optimised gate-centre parameters.
+Gate shiftedGate(const Gate& gate, double shift) {
+  Gate g = gate;
+  g.mu += shift;
+  g.a += shift;
+  g.b += shift;
+  g.binStart += shift;
+  return g;
+}
+
+double gateShift(const Experiment& e, const std::vector<double>& theta) {
+  double shift = 0;
+  for (size_t k = 0; k < e.parameters.size(); ++k)
+    if (e.scene.parameters[e.parameters[k].sceneIndex].kind == ParameterKind::GateCenter) shift += theta[k];
+  return shift;
+}
+
+std::vector<uint32_t> selectedIndices(const Experiment& e) {
+  std::vector<uint32_t> out;
+  for (const ExperimentParameter& p : e.parameters) out.push_back(p.sceneIndex);
+  return out;
+}
+
+GradientOptions gradientOptions(const Experiment& e, uint64_t memoryBudget) {
+  GradientOptions o;
+  o.interior = e.budget.interior;
+  o.edges = e.budget.edge;
+  o.pathLength = e.budget.pathLength;
+  o.sppEdge = e.budget.sppEdge;
+  o.sppBoundary = e.budget.sppBoundary;
+  o.antithetic = e.budget.antithetic == "on" ? AntitheticMode::On : e.budget.antithetic == "off" ? AntitheticMode::Off
+                                                                                                  : AntitheticMode::Auto;
+  o.render.nee = e.budget.nee;
+  o.render.memoryBudget = memoryBudget;
+  return o;
+}
+
+std::vector<std::string> logColumns(const Experiment& e) {
+  std::vector<std::string> columns = {"iteration", "loss"};
+  for (const Target& t : e.targets) columns.push_back("loss_" + t.name);
+  if (!e.regularizers.empty()) columns.push_back("regularization");
+  columns.push_back("gradient_norm");
+  if (parameterError(e.parameters, std::vector<double>(e.parameters.size(), 0.0))) columns.push_back("parameter_error");
+  columns.push_back("seconds");
+  return columns;
+}
+
+// The target images: read from their EXR files, or rendered at the truth with independent random
+// numbers (kept in targets/ so that a resumed run reads them back instead of rendering again).
+std::vector<ImageSet> targetImages(VulkanContext& context, Renderer& renderer, const Experiment& e,
+                                   const ParameterModel& model, const fs::path& run,
+                                   const std::function<void(const std::string&)>& progress) {
+  std::vector<ImageSet> images(e.targets.size());
+  std::optional<DeviceScene> truthScene;
+  std::vector<double> truth;
+  for (const ExperimentParameter& p : e.parameters) truth.push_back(p.truth.value_or(0.0));
+  for (size_t t = 0; t < e.targets.size(); ++t) {
+    const Target& target = e.targets[t];
+    if (!target.synthesize) {
+      images[t] = loadTargetImage(e, t);
+      continue;
+    }
+    const fs::path saved = run / "targets" / (target.name + ".exr");
+    if (fs::exists(saved)) {
+      images[t] = readExr(saved);
+      continue;
+    }
+    if (!truthScene) truthScene.emplace(context, model, truth, truth);
+    TargetSetup s = targetSetup(e, t);
+    truthScene->placePointLights(s.lights);
+    s.setup.gate = shiftedGate(s.setup.gate, gateShift(e, truth));
+    s.setup.settings.spp = target.synthesizeSpp;
+    s.setup.settings.seed = target.synthesizeSeed;
+    if (progress) progress("synthesising target " + target.name + " at the truth (" + std::to_string(target.synthesizeSpp) + " spp)");
+    RenderOptions options;
+    options.memoryBudget = 512ull << 20;
+    images[t] = renderer.render(*truthScene, s.setup, options).mean;
+    checkTargetImageFinite(e, t, images[t]);
+    writeExr(saved, images[t]);
+  }
+  return images;
+}
+
+}  // namespace
+
+OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options) {
+  const fs::path run = options.runDirectory;
+  if (run.empty()) throw Error("--out: a run directory is required");
+  // Everything that can be wrong with the input is checked before the run directory is touched.
+  Experiment e;
+  RunInfo info;
+  Checkpoint checkpoint;
+  if (options.resume) {
+    checkResumableRun(run);
+    info = readRunInfo(run);
+    std::ifstream copy(run / "experiment.json", std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(copy)), std::istreambuf_iterator<char>());
+    e = parseExperimentJson(text, (run / "experiment.json").string(), info.experiment.parent_path());
+    checkpoint = readCheckpoint(run / "checkpoint.bin");
+    checkCheckpointMatches(run / "checkpoint.bin", checkpoint, e);
+  } else {
+    e = loadExperiment(options.experiment);
+    info = {options.experiment, options.memoryBudget};
+  }
+  if (options.iterations) e.stop.iterations = *options.iterations;
+  for (size_t t = 0; t < e.targets.size(); ++t)
+    if (e.targets[t].synthesize) {
+      for (const ExperimentParameter& p : e.parameters)
+        if (!p.truth) fail(e.source.string(), "targets[" + std::to_string(t) + "].image", "synthesising needs a truth for every parameter; \"" + p.name + "\" has none");
+    } else {
+      loadTargetImage(e, t);  // exists, reads, fits its view and gate
+    }
+  if (!options.resume) {
+    prepareRunDirectory(run, options.force);
+    writeFileAtomic(run / "experiment.json", e.text);
+    writeRunInfo(run, info);
+    // A run interrupted before its first iteration ends (while synthesising targets, say) resumes
+    // from here.
+    Checkpoint start;
+    for (const ExperimentParameter& p : e.parameters) {
+      start.names.push_back(p.name);
+      start.theta.push_back(p.initial);
+    }
+    start.optimizer = Optimizer(e.optimizer, e.parameters).state();
+    start.bvhTheta = start.theta;
+    writeCheckpoint(run / "checkpoint.bin", start);
+  }
+
+  ParameterModel model(e.scene, selectedIndices(e));
+  Renderer renderer(context);
+  const std::vector<ImageSet> targets = targetImages(context, renderer, e, model, run, options.progress);
+  std::vector<TargetSetup> setups;
+  for (size_t t = 0; t < e.targets.size(); ++t) {
+    setups.push_back(targetSetup(e, t));
+    const Camera& c = setups[t].setup.camera;
+    checkTargetImageSize(e, t, targets[t], c.type == CameraType::PointSensor ? 1 : c.width,
+                         c.type == CameraType::PointSensor ? 1 : c.height, setups[t].setup.gate.layers());
+    checkTargetImageFinite(e, t, targets[t]);
+  }
+
+  std::vector<double> theta;
+  for (const ExperimentParameter& p : e.parameters) theta.push_back(p.initial);
+  std::vector<double> bvhTheta = theta;
+  Optimizer optimizer(e.optimizer, e.parameters);
+  AdjointState adjoint;
+  uint64_t start = 0;
+  double secondsBefore = 0;
+  std::vector<double> initialLoss;
+  if (options.resume) {
+    theta = checkpoint.theta;
+    bvhTheta = checkpoint.bvhTheta.empty() ? theta : checkpoint.bvhTheta;
+    optimizer.restore(checkpoint.optimizer);
+    adjoint.scale = checkpoint.adjointScale;
+    start = checkpoint.iteration;
+    secondsBefore = checkpoint.seconds;
+    initialLoss = checkpoint.initialLoss;
+  }
+  DeviceScene scene(context, model, theta, bvhTheta);
+  // A run stopped before its first row may have no log yet; later ones must have theirs.
+  const bool continueLog = options.resume && (start > 0 || fs::exists(run / "log.csv"));
+  RunLog log(run / "log.csv", logColumns(e), continueLog, start);
+  const GradientOptions gradient = gradientOptions(e, info.memoryBudget);
+  RenderOptions primalOptions;
+  primalOptions.nee = e.budget.nee;
+  primalOptions.memoryBudget = info.memoryBudget;
+
+  auto writeState = [&](uint64_t completed, double seconds) {
+    Checkpoint c;
+    c.iteration = completed;
+    for (const ExperimentParameter& p : e.parameters) c.names.push_back(p.name);
+    c.theta = theta;
+    c.optimizer = optimizer.state();
+    c.bvhTheta.assign(scene.buildTheta().begin(), scene.buildTheta().end());
+    c.adjointScale = adjoint.scale;
+    c.seconds = seconds;
+    c.initialLoss = initialLoss;
+    writeCheckpoint(run / "checkpoint.bin", c);
+  };
+  auto writeFigures = [&] { writeRunFigures(run, e, readLogColumns(run / "log.csv"), theta); };
+
+  OptimizeSummary summary;
+  summary.iterations = start;
+  const auto runStart = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return secondsBefore + std::chrono::duration<double>(std::chrono::steady_clock::now() - runStart).count(); };
+  std::vector<ImageSet> initialImages(e.targets.size());
+  for (size_t t = 0; t < e.targets.size(); ++t) {
+    const fs::path saved = run / "images" / (e.targets[t].name + "_initial.exr");
+    if (fs::exists(saved)) initialImages[t] = readExr(saved);
+  }
+  bool explained = false;
+  try {
+    for (uint64_t i = start; i < e.stop.iterations; ++i) {
+      throwIfInterrupted();
+      const auto iterationStart = std::chrono::steady_clock::now();
+      scene.update(theta, model.movesVertices() && i % kBvhCheckInterval == 0);
+      const double shift = gateShift(e, theta);
+      // The loss and its adjoint images, from renders with their own random numbers.
+      std::vector<double> losses(e.targets.size());
+      std::vector<ImageSet> adjointImages(e.targets.size());
+      std::vector<AdjointView> views;
+      double loss = 0;
+      for (size_t t = 0; t < e.targets.size(); ++t) {
+        RenderSetup setup = setups[t].setup;
+        setup.gate = shiftedGate(setup.gate, shift);
+        scene.placePointLights(setups[t].lights);
+        setup.settings.spp = e.budget.sppPrimal;
+        setup.settings.seed = seedFor(e.seed, i, t, 0);
+        RenderResult primal = renderer.render(scene, setup, primalOptions);
+        if (options.explain && !explained)
+          options.progress("render plan (target " + e.targets[t].name + "):\n" + explainPlan(primal.plan));
+        losses[t] = imageLoss(e.loss, primal.mean, targets[t], e.targets[t].weight, &adjointImages[t]);
+        loss += losses[t];
+        if (i == 0) {
+          initialImages[t] = primal.mean;
+          writeExr(run / "images" / (e.targets[t].name + "_initial.exr"), primal.mean);
+        }
+        if (i % e.imagesEvery == 0 || i + 1 == e.stop.iterations)
+          writeImageStrip(run / "images" / (e.targets[t].name + "_" + std::to_string(i) + ".png"),
+                          {{"target", targets[t]}, {"initial", initialImages[t]}, {"iteration " + std::to_string(i), primal.mean}});
+        setup.settings.spp = e.budget.sppInterior;
+        setup.settings.seed = seedFor(e.seed, i, t, 1);
+        views.push_back({setup, setups[t].lights, nullptr});
+      }
+      if (initialLoss.empty()) initialLoss = losses;
+      for (size_t t = 0; t < views.size(); ++t) views[t].adjoint = &adjointImages[t];
+      LossGradient g = lossGradient(renderer, scene, views, gradient, adjoint);
+      if (options.explain && !explained) {
+        std::string plan = "gradient plan:\n";
+        for (const std::string& r : g.plan.reasons) plan += "  - " + r + "\n";
+        plan += "  - the adjoint image comes from a render with its own random numbers (seed of use 0), independent of the\n"
+                "    gradient's renders (use 1): a correlated one would bias the gradient of any loss not linear in the image\n";
+        options.progress(plan);
+        explained = true;
+      }
+      if (g.stats.nonFinite > 0)
+        throw Error("gradient: " + std::to_string(g.stats.nonFinite) + " non-finite contributions at iteration " + std::to_string(i));
+      std::vector<double> d = g.theta;
+      const double dataLoss = loss;
+      double regularization = e.regularizers.empty() ? 0.0 : vktg::regularization(e, theta, d);
+      loss += regularization;
+      preconditionGradient(e, d);
+      double norm = 0;
+      for (double v : d) norm += v * v;
+      norm = std::sqrt(norm);
+      const std::optional<double> error = parameterError(e.parameters, theta);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - iterationStart).count();
+      std::vector<double> row = {double(i), loss};
+      row.insert(row.end(), losses.begin(), losses.end());
+      if (!e.regularizers.empty()) row.push_back(regularization);
+      row.push_back(norm);
+      if (error) row.push_back(*error);
+      row.push_back(seconds);
+      log.append(row);
+      summary.loss = loss;
+      summary.parameterError = error;
+      if (options.progress) {
+        const double total0 = std::accumulate(initialLoss.begin(), initialLoss.end(), 0.0);
+        char line[256];
+        // The change is that of the image loss (the regulariser's share is in the log).
+        std::snprintf(line, sizeof line, "iteration %llu/%u  loss %.4e (image loss %+.1f%%)  |grad| %.3e%s  %.2f s/it  ETA %s",
+                      (unsigned long long)i, e.stop.iterations, loss, total0 > 0 ? 100.0 * (dataLoss / total0 - 1.0) : 0.0,
+                      norm, error ? ("  error " + std::to_string(*error)).c_str() : "", seconds,
+                      formatSeconds(seconds * double(e.stop.iterations - i - 1)).c_str());
+        options.progress(line);
+      }
+      optimizer.step(theta, d);
+      summary.iterations = i + 1;
+      const bool lastIteration = i + 1 == e.stop.iterations;
+      std::string stop;
+      if (e.stop.lossBelow && loss < *e.stop.lossBelow) stop = "the loss fell below stop.loss_below";
+      if (e.stop.parameterErrorBelow && error && *error < *e.stop.parameterErrorBelow)
+        stop = "the parameter error fell below stop.parameter_error_below";
+      if (e.stop.seconds && elapsed() > *e.stop.seconds) stop = "the run reached stop.seconds";
+      if (lastIteration && stop.empty()) stop = "the last iteration (stop.iterations)";
+      if ((i + 1) % e.checkpointEvery == 0 || !stop.empty()) {
+        writeState(i + 1, elapsed());
+        writeFigures();
+      }
+      if (!stop.empty()) {
+        summary.stopReason = stop;
+        break;
+      }
+    }
+  } catch (const Interrupted&) {
+    // θ and the optimiser state are those after the last completed iteration: a valid checkpoint.
+    writeState(summary.iterations, elapsed());
+    writeFigures();
+    throw;
+  }
+  if (summary.stopReason.empty()) {
+    summary.stopReason = "the last iteration (stop.iterations)";
+    writeState(summary.iterations, elapsed());
+    writeFigures();
+  }
+  summary.seconds = elapsed();
+  writeParameters(run / "parameters.json", e, theta);
+  writeOptimizedScene(run / "scene.json", e, theta);
+  return summary;
+}
+
+}  // namespace vktg

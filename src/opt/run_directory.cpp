@@ -1,0 +1,209 @@
+#include "opt/run_directory.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "opt/plot.h"
+#include "vktg/error.h"
+#include "vktg/image_io.h"
+
+namespace vktg {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Files and folders a run writes; --force removes exactly these.
+const char* const kRunEntries[] = {"experiment.json", "run.json", "log.csv", "checkpoint.bin", "loss.png",
+                                   "parameter_error.png", "parameters.json", "scene.json", "images", "targets",
+                                   "report.md"};
+
+bool isRunEntry(const fs::path& name) {
+  const std::string n = name.string();
+  for (const char* entry : kRunEntries)
+    if (n == entry) return true;
+  return n.rfind("heightfield_", 0) == 0 && name.extension() == ".png";
+}
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path.string(), "", "cannot read the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void requireWritable(const fs::path& directory) {
+  if (::access(directory.c_str(), W_OK | X_OK) != 0)
+    fail(directory.string(), "", "the run directory is not writable");
+}
+
+}  // namespace
+
+void prepareRunDirectory(const fs::path& directory, bool force) {
+  std::error_code ec;
+  const std::string name = directory.string();
+  if (fs::exists(directory, ec)) {
+    if (!fs::is_directory(directory, ec)) fail(name, "", "exists and is not a directory");
+    std::vector<fs::path> entries;
+    for (const fs::directory_entry& e : fs::directory_iterator(directory, ec)) entries.push_back(e.path().filename());
+    if (!force && !entries.empty())
+      fail(name, "", "the run directory exists: continue it with --resume, or replace it with --force");
+    for (const fs::path& entry : entries)
+      if (!isRunEntry(entry))
+        fail(name, "", "--force replaces run directories only, and '" + entry.string() +
+                           "' is no file of a run: choose another directory");
+    requireWritable(directory);
+    for (const fs::path& entry : entries) fs::remove_all(directory / entry, ec);
+  } else {
+    fs::create_directories(directory, ec);
+    if (ec) fail(name, "", "cannot create the run directory: " + ec.message());
+  }
+  requireWritable(directory);
+  fs::create_directories(directory / "images", ec);
+  fs::create_directories(directory / "targets", ec);
+  if (ec) fail(name, "", "cannot create its subdirectories: " + ec.message());
+}
+
+void checkResumableRun(const fs::path& directory) {
+  const std::string name = directory.string();
+  std::error_code ec;
+  if (!fs::is_directory(directory, ec)) fail(name, "", "--resume: no run directory here");
+  for (const char* file : {"run.json", "experiment.json", "checkpoint.bin"})
+    if (!fs::exists(directory / file, ec))
+      fail(name, "", std::string("--resume: the run directory has no ") + file + " (was it made by vktg optimize?)");
+  requireWritable(directory);
+}
+
+void writeRunInfo(const fs::path& directory, const RunInfo& info) {
+  nlohmann::json j;
+  j["experiment"] = fs::absolute(info.experiment).lexically_normal().string();
+  j["memory_budget"] = info.memoryBudget;
+  writeFileAtomic(directory / "run.json", j.dump(2) + "\n");
+}
+
+RunInfo readRunInfo(const fs::path& directory) {
+  const fs::path path = directory / "run.json";
+  RunInfo info;
+  try {
+    nlohmann::json j = nlohmann::json::parse(readText(path));
+    info.experiment = j.at("experiment").get<std::string>();
+    info.memoryBudget = j.at("memory_budget").get<uint64_t>();
+  } catch (const nlohmann::json::exception& e) {
+    fail(path.string(), "", std::string("malformed run information: ") + e.what());
+  }
+  return info;
+}
+
+std::map<std::string, std::vector<double>> readLogColumns(const fs::path& path) {
+  std::map<std::string, std::vector<double>> columns;
+  std::ifstream in(path);
+  if (!in) return columns;
+  std::string line;
+  std::vector<std::string> names;
+  if (std::getline(in, line)) {
+    std::stringstream header(line);
+    for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+  }
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    size_t c = 0;
+    for (std::string field; std::getline(row, field, ',') && c < names.size(); ++c)
+      columns[names[c]].push_back(std::strtod(field.c_str(), nullptr));
+  }
+  return columns;
+}
+
+void writeParameters(const fs::path& path, const Experiment& experiment, const std::vector<double>& theta) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (size_t k = 0; k < experiment.parameters.size(); ++k) {
+    const ExperimentParameter& p = experiment.parameters[k];
+    nlohmann::ordered_json entry;
+    entry["name"] = p.name;
+    entry["initial"] = p.initial;
+    entry["final"] = theta.at(k);
+    if (p.truth) entry["truth"] = *p.truth;
+    out.push_back(entry);
+  }
+  writeFileAtomic(path, out.dump(2) + "\n");
+}
+
+bool writeOptimizedScene(const fs::path& path, const Experiment& experiment, const std::vector<double>& theta) {
+  if (experiment.scenePath.extension() != ".json") return false;
+  nlohmann::ordered_json scene = nlohmann::ordered_json::parse(readText(experiment.scenePath));
+  std::map<std::string, double> values;
+  for (size_t k = 0; k < experiment.parameters.size(); ++k) values[experiment.parameters[k].name] = theta.at(k);
+  for (nlohmann::ordered_json& p : scene["parameters"]) {
+    if (p.value("type", "") == "heightfield_heights") {
+      const std::string prefix = p.value("name_prefix", p.value("shape", "") + "_h");
+      nlohmann::ordered_json& list = p["values"];
+      for (uint32_t k = 0;; ++k) {
+        auto it = values.find(prefix + std::to_string(k));
+        if (it == values.end()) {
+          if (list.is_null()) p.erase("values");
+          break;
+        }
+        if (list.is_null()) list = nlohmann::ordered_json::array();
+        while (list.size() <= k) list.push_back(0.0);
+        list[k] = list[k].get<double>() + it->second;
+      }
+    } else if (auto it = values.find(p.value("name", "")); it != values.end()) {
+      p["value"] = p.value("value", 0.0) + it->second;
+    }
+  }
+  // Mesh files are relative to the scene's folder, which is not the run's.
+  const fs::path base = fs::absolute(experiment.scenePath).parent_path();
+  for (nlohmann::ordered_json& shape : scene["shapes"])
+    if (shape.value("type", "") == "mesh" && shape.contains("file"))
+      shape["file"] = (base / shape["file"].get<std::string>()).lexically_normal().string();
+  writeFileAtomic(path, scene.dump(2) + "\n");
+  return true;
+}
+
+void writeRunFigures(const fs::path& directory, const Experiment& experiment,
+                     const std::map<std::string, std::vector<double>>& log, const std::vector<double>& theta) {
+  auto column = [&](const std::string& name) {
+    auto it = log.find(name);
+    return it == log.end() ? std::vector<double>{} : it->second;
+  };
+  const std::vector<double> iterations = column("iteration");
+  if (iterations.empty()) return;
+  LinePlot loss{"Loss", "iteration", "loss", true, {}};
+  loss.series.push_back({"total", iterations, column("loss")});
+  if (experiment.targets.size() > 1)
+    for (const Target& t : experiment.targets) loss.series.push_back({t.name, iterations, column("loss_" + t.name)});
+  if (log.count("regularization")) loss.series.push_back({"regularization", iterations, column("regularization")});
+  writeLinePlot(directory / "loss.png", loss);
+  if (log.count("parameter_error")) {
+    LinePlot error{"Parameter error (RMS of theta - truth)", "iteration", "parameter error", true, {}};
+    error.series.push_back({"", iterations, column("parameter_error")});
+    writeLinePlot(directory / "parameter_error.png", error);
+  }
+  // Heightfields whose every height is optimised with a known truth.
+  for (uint32_t s = 0; s < experiment.scene.shapes.size(); ++s) {
+    const Shape& shape = experiment.scene.shapes[s];
+    if (shape.grid.x == 0) continue;
+    const size_t count = size_t(shape.grid.x) * shape.grid.y;
+    std::vector<double> recovered(count, 0.0), truth(count, 0.0);
+    std::vector<bool> seen(count, false);
+    for (size_t k = 0; k < experiment.parameters.size(); ++k) {
+      const ExperimentParameter& ep = experiment.parameters[k];
+      const Parameter& p = experiment.scene.parameters[ep.sceneIndex];
+      if (p.kind != ParameterKind::Displace || p.target != shape.name || p.vertices.size() != 1 || !ep.truth) continue;
+      const uint32_t v = p.vertices[0];
+      recovered[v] = theta[k];
+      truth[v] = *ep.truth;
+      seen[v] = true;
+    }
+    if (std::count(seen.begin(), seen.end(), true) != std::ptrdiff_t(count)) continue;
+    writeHeightfieldComparison(directory / ("heightfield_" + shape.name + ".png"), shape.grid.x, shape.grid.y, recovered,
+                               truth);
+  }
+}
+
+}  // namespace vktg

@@ -1,0 +1,205 @@
+// `vktg optimize` end to end on lavapipe: reduced inverse problems converge (a plane's distance
+// from a confocal transient stack, a light's height, the 16 heights of a heightfield from two
+// views), a run stopped by an interrupt and resumed continues bit for bit like an uninterrupted
+// one, and the files of a run are there and valid.
+//
+// Convergence bounds: each run starts at a stated parameter error e0 and must end below a fraction
+// of it. The error is the median over the last 10 iterations, so that Adam's oscillation about the
+// optimum (of the order of its learning rate) does not decide the test. The fractions (1/4 and
+// 1/3) are far above the scatter of the final error over seeds, and far below what a gradient
+// with a wrong sign, scale or missing term reaches (the error then grows or stalls near e0).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "host/interrupt.h"
+#include "host/optimize.h"
+#include "opt/run_directory.h"
+#include "opt/run_files.h"
+#include "support/cli_runner.h"
+#include "support/gpu_context.h"
+
+namespace vktg {
+namespace {
+
+namespace fs = std::filesystem;
+using test::TempDir;
+
+const fs::path kData = fs::path(VKTG_TEST_DATA) / "optimize";
+
+OptimizeSummary run(const fs::path& experiment, const fs::path& out, std::optional<uint32_t> iterations = {},
+                    std::function<void(const std::string&)> progress = {}) {
+  OptimizeOptions o;
+  o.experiment = experiment;
+  o.runDirectory = out;
+  o.iterations = iterations;
+  o.progress = progress ? progress : [](const std::string& line) { std::printf("  %s\n", line.c_str()); };
+  return optimize(test::testContext(), o);
+}
+
+double medianOfLast(const std::vector<double>& values, size_t count) {
+  std::vector<double> last(values.end() - std::min(count, values.size()), values.end());
+  std::sort(last.begin(), last.end());
+  return last[last.size() / 2];
+}
+
+struct ConvergenceCase {
+  const char* name;
+  const char* file;
+  double initialError;
+  double fraction;  // the final error must fall below fraction * initialError
+};
+
+class OptimizeConverges : public testing::TestWithParam<ConvergenceCase> {};
+
+TEST_P(OptimizeConverges, ParameterErrorFalls) {
+  const ConvergenceCase& c = GetParam();
+  TempDir dir;
+  const OptimizeSummary summary = run(kData / c.file, dir / "run");
+  const auto log = readLogColumns(dir / "run" / "log.csv");
+  const std::vector<double>& error = log.at("parameter_error");
+  const std::vector<double>& loss = log.at("loss");
+  ASSERT_EQ(error.size(), summary.iterations);
+  EXPECT_NEAR(error.front(), c.initialError, 1e-12);
+  const double final = medianOfLast(error, 10);
+  std::printf("  %s: parameter error %.4f -> %.4f (median of the last 10), loss %.3e -> %.3e, %.1f s\n", c.name,
+              error.front(), final, loss.front(), medianOfLast(loss, 10), summary.seconds);
+  EXPECT_LT(final, c.fraction * c.initialError);
+  EXPECT_LT(medianOfLast(loss, 10), 0.5 * loss.front());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Reduced, OptimizeConverges,
+    testing::Values(ConvergenceCase{"ConfocalPlaneDistance", "converge_plane.json", 0.12, 0.25},
+                    ConvergenceCase{"LightHeight", "converge_light.json", 0.4, 0.25},
+                    ConvergenceCase{"Heightfield4x4", "converge_heightfield.json", 0.05, 1.0 / 3.0}),
+    [](const testing::TestParamInfo<ConvergenceCase>& info) { return std::string(info.param.name); });
+
+// Log rows without their wall time (the one column that may differ between runs).
+std::vector<std::string> rowsWithoutTime(const fs::path& log) {
+  std::ifstream in(log);
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(in, line);) rows.push_back(line.substr(0, line.rfind(',')));
+  return rows;
+}
+
+void expectSameBits(const std::vector<double>& a, const std::vector<double>& b, const char* what) {
+  ASSERT_EQ(a.size(), b.size()) << what;
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << what << " differ in their bits";
+}
+
+// Interrupts (as SIGINT would) once `line` has been reported; the run then throws Interrupted.
+std::function<void(const std::string&)> interruptAfter(const std::string& line) {
+  return [line](const std::string& reported) {
+    if (reported.find(line) != std::string::npos) requestInterrupt(2);
+  };
+}
+
+void expectInterrupted(const fs::path& out, uint32_t iterations, const std::string& line) {
+  try {
+    run(kData / "converge_heightfield.json", out, iterations, interruptAfter(line));
+    ADD_FAILURE() << "the run was not interrupted after '" << line << "'";
+  } catch (const Interrupted&) {
+  }
+  clearInterrupt();
+}
+
+OptimizeSummary resume(const fs::path& out, uint32_t iterations) {
+  OptimizeOptions o;
+  o.runDirectory = out;
+  o.resume = true;
+  o.iterations = iterations;
+  return optimize(test::testContext(), o);
+}
+
+TEST(OptimizeResume, InterruptedAndResumedRunsMatchAnUninterruptedOne) {
+  constexpr uint32_t kIterations = 9;
+  TempDir dir;
+  run(kData / "converge_heightfield.json", dir / "whole", kIterations);
+
+  // Interrupted after iteration 2 (between iterations) and once more in the middle of iteration 3
+  // (while rendering its gradient), each time resumed.
+  expectInterrupted(dir / "parts", kIterations, "iteration 2/");
+  EXPECT_EQ(readCheckpoint(dir / "parts" / "checkpoint.bin").iteration, 3u);
+  try {
+    OptimizeOptions o;
+    o.runDirectory = dir / "parts";
+    o.resume = true;
+    o.iterations = kIterations;
+    o.explain = true;
+    o.progress = interruptAfter("render plan (target above)");  // printed before iteration 3's gradient renders
+    optimize(test::testContext(), o);
+    ADD_FAILURE() << "the resumed run was not interrupted";
+  } catch (const Interrupted&) {
+  }
+  clearInterrupt();
+  // Interrupted inside iteration 3, before its step: the checkpoint still holds 3 completed.
+  EXPECT_EQ(readCheckpoint(dir / "parts" / "checkpoint.bin").iteration, 3u);
+  EXPECT_EQ(resume(dir / "parts", kIterations).iterations, kIterations);
+
+  EXPECT_EQ(rowsWithoutTime(dir / "parts" / "log.csv"), rowsWithoutTime(dir / "whole" / "log.csv"));
+  const Checkpoint whole = readCheckpoint(dir / "whole" / "checkpoint.bin");
+  const Checkpoint parts = readCheckpoint(dir / "parts" / "checkpoint.bin");
+  EXPECT_EQ(parts.iteration, kIterations);
+  expectSameBits(parts.theta, whole.theta, "θ");
+  expectSameBits(parts.optimizer.first, whole.optimizer.first, "first moments");
+  expectSameBits(parts.optimizer.second, whole.optimizer.second, "second moments");
+  EXPECT_EQ(test::readFileBytes(dir / "parts" / "parameters.json"), test::readFileBytes(dir / "whole" / "parameters.json"));
+}
+
+TEST(OptimizeResume, RunInterruptedBeforeItsFirstIterationResumes) {
+  TempDir dir;
+  run(kData / "converge_heightfield.json", dir / "whole", 2);
+  expectInterrupted(dir / "parts", 2, "synthesising target above");
+  const Checkpoint start = readCheckpoint(dir / "parts" / "checkpoint.bin");
+  EXPECT_EQ(start.iteration, 0u);
+  EXPECT_FALSE(fs::exists(dir / "parts" / "targets" / "above.exr")) << "a target cut short must not be kept";
+  resume(dir / "parts", 2);
+  EXPECT_EQ(rowsWithoutTime(dir / "parts" / "log.csv"), rowsWithoutTime(dir / "whole" / "log.csv"));
+}
+
+TEST(OptimizeCli, RunWritesItsFilesAndTheOptimisedSceneRenders) {
+  TempDir dir;
+  const fs::path out = dir / "run";
+  test::CliResult r = test::runVktg({"optimize", (kData / "converge_light.json").string(), "--out", out.string(),
+                                     "--iterations", "12", "--explain"});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_NE(r.err.find("the adjoint image comes from a render with its own random numbers"), std::string::npos) << r.err;
+  EXPECT_EQ(test::linesStartingWith(r.err, "vktg: iteration ").size(), 12u) << r.err;
+  for (const char* file : {"log.csv", "checkpoint.bin", "experiment.json", "run.json", "loss.png", "parameter_error.png",
+                           "parameters.json", "scene.json", "images/front_0.png", "images/front_11.png", "targets/front.exr"})
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  const nlohmann::json parameters = nlohmann::json::parse(test::readFileBytes(out / "parameters.json"));
+  const double final = parameters.at(0).at("final");
+  EXPECT_EQ(readCheckpoint(out / "checkpoint.bin").theta.at(0), final);
+  // The optimised scene holds θ as the parameter's value, and renders.
+  const nlohmann::json scene = nlohmann::json::parse(test::readFileBytes(out / "scene.json"));
+  bool found = false;
+  for (const auto& p : scene.at("parameters"))
+    if (p.value("name", "") == "laser_y") {
+      found = true;
+      EXPECT_EQ(p.at("value").get<double>(), final);
+    }
+  EXPECT_TRUE(found);
+  r = test::runVktg({"render", (out / "scene.json").string(), "--spp", "4", "--out", (dir / "check.exr").string()});
+  EXPECT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+
+  // Without --resume or --force the run directory is not touched; --resume continues it.
+  const std::string log = test::readFileBytes(out / "log.csv");
+  r = test::runVktg({"optimize", (kData / "converge_light.json").string(), "--out", out.string()});
+  EXPECT_TRUE(r.exited && r.exitCode != 0) << r.describe();
+  EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
+  EXPECT_EQ(test::readFileBytes(out / "log.csv"), log);
+  r = test::runVktg({"optimize", "--resume", out.string(), "--iterations", "14", "--quiet"});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_EQ(readLogColumns(out / "log.csv").at("iteration").size(), 14u);
+}
+
+}  // namespace
+}  // namespace vktg
