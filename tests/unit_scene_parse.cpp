@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "scene/primitives.h"
+#include "vktg/error.h"
 #include "vktg/scene.h"
 
 namespace vktg {
@@ -345,6 +346,45 @@ TEST(SceneParse, HasEmittersNeedsPositiveEmissionOrIntensity) {
   scene.pointLights.clear();
   scene.shapes[0].emission = 0.5f;
   EXPECT_TRUE(scene.hasEmitters());
+}
+
+
+// "value" and "values" load the scene with its parameters already applied (the form in which
+// `vktg optimize` writes its result): the same scene as applying them by hand.
+TEST(SceneParse, ParameterValuesAreAppliedAtLoad) {
+  const std::string shapes = R"(
+    "camera": {"type": "perspective", "position": [0, 0, 3], "look_at": [0, 0, 0], "fov_y": 40, "resolution": [8, 8]},
+    "gate": {"type": "box", "a": 1, "b": 5},
+    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"name": "lamp", "type": "rectangle", "material": "m", "emission": 1},
+               {"name": "ground", "type": "heightfield", "material": "m", "resolution": [2, 2], "size": [1, 1],
+                "heights": [0, 0, 0, 0]}],
+    "lights": [{"type": "point", "name": "laser", "position": [0, 1, 0], "intensity": 1}],)";
+  const Scene plain = parse(R"({"version": 1,)" + shapes + R"(
+    "parameters": [{"name": "lift", "type": "translate", "shape": "lamp", "axis": [0, 1, 0]},
+                   {"name": "grey", "type": "albedo", "material": "m"},
+                   {"type": "heightfield_heights", "shape": "ground", "name_prefix": "h"}]})");
+  const Scene valued = parse(R"({"version": 1,)" + shapes + R"(
+    "parameters": [{"name": "lift", "type": "translate", "shape": "lamp", "axis": [0, 1, 0], "value": 0.25},
+                   {"name": "grey", "type": "albedo", "material": "m", "value": -0.125},
+                   {"type": "heightfield_heights", "shape": "ground", "name_prefix": "h", "values": [0, 0.5, 0, -0.5]}]})");
+  EXPECT_FLOAT_EQ(valued.materials[0].albedo, 0.375f);
+  const Shape& lamp = shapeNamed(valued, "lamp");
+  for (size_t i = 0; i < lamp.positions.size(); ++i)
+    EXPECT_NEAR(lamp.positions[i].y, shapeNamed(plain, "lamp").positions[i].y + 0.25f, 1e-6f);
+  const Shape& ground = shapeNamed(valued, "ground");
+  EXPECT_NEAR(ground.positions[1].y, 0.5f, 1e-6f);
+  EXPECT_NEAR(ground.positions[3].y, -0.5f, 1e-6f);
+  EXPECT_NEAR(ground.positions[0].y, 0.0f, 1e-6f);
+  // The parameters stay declared (θ = 0 now means "at these values").
+  EXPECT_EQ(valued.parameters.size(), plain.parameters.size());
+  try {
+    parse(R"({"version": 1,)" + shapes + R"(
+      "parameters": [{"type": "heightfield_heights", "shape": "ground", "values": [0, 1]}]})");
+    FAIL() << "values of the wrong length were accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("parameters[0].values"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,10 +1,13 @@
 // `vktg bench render`: error-versus-time curves of the forward estimators, throughput, time per
 // pass, memory; writes a run directory (CSV, plot, markdown table).
 #include <cstdio>
+#include <cstdlib>
+#include <sstream>
 #include <iostream>
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "host/bench_adjoint.h"
 #include "host/bench_grad.h"
 #include "host/bench_render.h"
 
@@ -14,7 +17,7 @@ const CommandSpec& benchSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "bench";
-    s.usage = "bench render|grad [options]";
+    s.usage = "bench render|grad|adjoint [options]";
     s.description =
         "Measures accuracy versus time: relMSE against an exact (confocal plane) or cached high-sample\n"
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
@@ -22,16 +25,35 @@ const CommandSpec& benchSpec() {
         "cutoff saves. `bench grad`: relMSE versus time of d M / d h on the confocal plane against its exact\n"
         "value (standard, ellipsoidal and antithetic estimators), of the path-length-boundary term with and\n"
         "without antithetic pairs, of the edge term against its budget, and the time of a gradient relative\n"
-        "to a render. Writes bench.csv, plot.png and table.md into the output directory.";
+        "to a render. `bench adjoint`: the cost of a loss gradient with respect to every height of an n x n\n"
+        "heightfield (each term alone and all three) relative to a render, as n grows, against forward-mode\n"
+        "lanes. Writes bench.csv, plot.png (render, grad) and table.md into the output directory.";
     s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
-                 {"--scale", "X", "multiplies every sample count (default 1; 0.25 for a quick look)"}};
+                 {"--scale", "X", "multiplies every sample count (default 1; 0.25 for a quick look)"},
+                 {"--sizes", "N,N,...", "adjoint: heightfield vertices per side (default 11,100,1000)"},
+                 {"--no-path-length", "", "adjoint: leave out the path-length-boundary term"}};
     for (auto& o : deviceOptions()) s.options.push_back(o);
     s.examples = "  vktg bench render --out runs/bench-render\n  vktg bench render --scale 0.25 --runs 1 --steps 3\n";
     return s;
   }();
   return spec;
+}
+
+// "11,100,1000": heightfield sizes of `bench adjoint`, each in [2, 4096].
+std::vector<uint32_t> parseSizes(const std::string& text) {
+  std::vector<uint32_t> sizes;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    char* end = nullptr;
+    const unsigned long n = std::strtoul(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || n < 2 || n > 4096)
+      throw UsageError("--sizes: '" + item + "' is not a size in [2, 4096] (expected e.g. 11,100,1000)");
+    sizes.push_back(uint32_t(n));
+  }
+  if (sizes.empty()) throw UsageError("--sizes: no size given");
+  return sizes;
 }
 
 int runBench(const std::vector<std::string>& argv) {
@@ -40,8 +62,9 @@ int runBench(const std::vector<std::string>& argv) {
     std::cout << helpText(benchSpec());
     return 0;
   }
-  if (args.positionals.empty() || (args.positionals[0] != "render" && args.positionals[0] != "grad"))
-    throw UsageError("which benchmark? `vktg bench render` or `vktg bench grad`");
+  const std::string which = args.positionals.empty() ? "" : args.positionals[0];
+  if (which != "render" && which != "grad" && which != "adjoint")
+    throw UsageError("which benchmark? `vktg bench render`, `vktg bench grad` or `vktg bench adjoint`");
   std::string command = "vktg bench";
   for (const auto& a : argv) command += " " + a;
   bool quiet = args.has("--quiet");
@@ -49,7 +72,7 @@ int runBench(const std::vector<std::string>& argv) {
     if (!quiet) std::fprintf(stderr, "bench: %s\n", line.c_str());
   };
   BenchOptions options;
-  options.outDir = args.get("--out").value_or(args.positionals[0] == "grad" ? "runs/bench-grad" : "runs/bench-render");
+  options.outDir = args.get("--out").value_or("runs/bench-" + which);
   options.runs = args.count("--runs", 1, 100).value_or(3);
   options.ladderSteps = args.count("--steps", 0, 12).value_or(5);
   if (auto scale = args.number("--scale")) {
@@ -59,7 +82,16 @@ int runBench(const std::vector<std::string>& argv) {
   options.memoryBudget = memoryBudget(args);
   options.log = log;
   auto context = makeContext(args);
-  if (args.positionals[0] == "grad")
+  if (which == "adjoint") {
+    BenchAdjointOptions adjoint;
+    static_cast<BenchOptions&>(adjoint) = options;
+    if (auto sizes = args.get("--sizes")) adjoint.sizes = parseSizes(*sizes);
+    adjoint.pathLength = !args.has("--no-path-length");
+    writeBenchAdjointReport(benchAdjoint(*context, adjoint), adjoint, command);
+    log("wrote " + options.outDir.string() + "/{bench.csv,table.md}");
+    return finishWithValidationCheck(*context, 0);
+  }
+  if (which == "grad")
     writeBenchGradReport(benchGrad(*context, options), options, command);
   else
     writeBenchRenderReport(benchRender(*context, options), options, command);

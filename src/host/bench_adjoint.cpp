@@ -1,0 +1,212 @@
+#include "host/bench_adjoint.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "host/device_scene.h"
+#include "host/gradient.h"
+#include "host/renderer.h"
+#include "scene/primitives.h"
+#include "vktg/image_io.h"
+#include "vktg/parameter_model.h"
+
+namespace vktg {
+namespace {
+
+// An n x n heightfield, 2 m on a side, with smooth bumps, seen from above by a pinhole with a point
+// light beside it; one displacement parameter per vertex along +y (as heightfield_heights makes).
+// A box gate around the direct returns, so that all three terms have work: interior, edges
+// (silhouettes and shadows of the bumps) and the gate's jumps (path-length boundary).
+Scene heightfieldScene(uint32_t n, uint32_t resolution, uint32_t spp) {
+  Scene scene;
+  scene.materials.push_back({"ground", MaterialType::Diffuse, 0.6f});
+  std::vector<float> heights(size_t(n) * n);
+  for (uint32_t j = 0; j < n; ++j)
+    for (uint32_t i = 0; i < n; ++i) {
+      const double x = double(i) / (n - 1), z = double(j) / (n - 1);
+      heights[size_t(j) * n + i] = float(0.12 * std::sin(7.0 * x) * std::cos(5.0 * z) + 0.05 * std::sin(23.0 * x * z));
+    }
+  TriangleMesh mesh = makeHeightfield(n, n, 2.0f, 2.0f, heights);
+  Shape shape;
+  shape.name = "terrain";
+  shape.positions = std::move(mesh.positions);
+  shape.triangles = std::move(mesh.triangles);
+  shape.grid = {n, n};
+  scene.shapes.push_back(std::move(shape));
+  scene.pointLights.push_back({"laser", glm::vec3(0.4f, 2.0f, 1.2f), 4.0f});
+  scene.camera.position = glm::vec3(0.0f, 2.2f, 1.4f);
+  scene.camera.lookAt = glm::vec3(0.0f);
+  scene.camera.fovY = 45.0f;
+  scene.camera.width = scene.camera.height = resolution;
+  scene.gate = boxGate(4.4, 5.2);
+  scene.render.spp = spp;
+  scene.render.maxDepth = 4;
+  for (uint32_t k = 0; k < n * n; ++k) {
+    Parameter p;
+    p.name = "h" + std::to_string(k);
+    p.kind = ParameterKind::Displace;
+    p.target = "terrain";
+    p.axis = glm::vec3(0, 1, 0);
+    p.vertices = {k};
+    scene.parameters.push_back(std::move(p));
+  }
+  return scene;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// An adjoint image like a loss's: zero-mean noise of the image's size.
+ImageSet randomAdjoint(uint32_t width, uint32_t height) {
+  ImageSet adjoint{width, height, {{"", std::vector<float>(size_t(width) * height)}}};
+  std::mt19937 rng(7);
+  std::normal_distribution<float> normal(0.0f, 1e-3f);
+  for (float& a : adjoint.layers[0].pixels) a = normal(rng);
+  return adjoint;
+}
+
+}  // namespace
+
+BenchAdjointReport benchAdjoint(VulkanContext& context, const BenchAdjointOptions& options) {
+  BenchAdjointReport report;
+  report.device = context.report().name;
+  auto log = [&](const std::string& line) {
+    if (options.log) options.log(line);
+  };
+  const uint32_t resolution = std::max(8u, uint32_t(std::lround(options.resolution * std::sqrt(options.scale))));
+  const uint32_t spp = std::max(1u, uint32_t(std::lround(options.spp * options.scale)));
+  Renderer renderer(context);
+  for (uint32_t n : options.sizes) {
+    BenchAdjointRow row;
+    row.size = n;
+    row.parameters = uint64_t(n) * n;
+    const Scene scene = heightfieldScene(n, resolution, spp);
+    row.triangles = scene.triangleCount();
+    log("heightfield " + std::to_string(n) + "x" + std::to_string(n) + ": " + std::to_string(row.parameters) +
+        " parameters, " + std::to_string(row.triangles) + " triangles");
+    std::vector<uint32_t> all(scene.parameters.size());
+    for (uint32_t k = 0; k < all.size(); ++k) all[k] = k;
+    const ParameterModel model(scene, all);
+    std::vector<double> theta(all.size(), 0.0);
+    auto start = std::chrono::steady_clock::now();
+    DeviceScene device(context, model, theta, theta);
+    row.buildSeconds = secondsSince(start);
+
+    RenderSetup setup = RenderSetup::of(scene);
+    RenderOptions renderOptions;
+    renderOptions.memoryBudget = options.memoryBudget;
+    const ImageSet adjoint = randomAdjoint(setup.camera.width, setup.camera.height);
+    const std::vector<AdjointView> views = {{setup, {}, &adjoint}};
+    struct Variant {
+      double* seconds;
+      bool interior, edges, pathLength;
+    };
+    const Variant variants[] = {{&row.interiorSeconds, true, false, false},
+                                {&row.edgeSeconds, false, true, false},
+                                {&row.boundarySeconds, false, false, true},
+                                {&row.allSeconds, true, true, true}};  // every term the options allow
+    AdjointState state;
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<double> step(-1e-3, 1e-3);
+    // Warm-up: pipelines, films and accumulators are made once, as in an optimisation.
+    renderer.render(device, setup, renderOptions);
+    for (const Variant& v : variants) {
+      if (v.pathLength && !v.interior && !options.pathLength) continue;
+      GradientOptions g;
+      g.render = renderOptions;
+      g.interior = v.interior, g.edges = v.edges, g.pathLength = v.pathLength && options.pathLength;
+      const LossGradient warm = lossGradient(renderer, device, views, g, state);
+      log("    warm-up: " + std::to_string(warm.attempts) + " attempts, " + std::to_string(warm.stats.paths) + " paths, " +
+          std::to_string(warm.stats.batches) + " batches, " + std::to_string(warm.stats.seconds) + " s");
+    }
+    std::vector<double> update, render;
+    std::vector<std::vector<double>> terms(std::size(variants));
+    for (uint32_t run = 0; run < options.runs; ++run) {
+      for (double& t : theta) t += step(rng);
+      start = std::chrono::steady_clock::now();
+      device.update(theta, true);
+      update.push_back(secondsSince(start));
+      start = std::chrono::steady_clock::now();
+      renderer.render(device, setup, renderOptions);
+      render.push_back(secondsSince(start));
+      for (size_t v = 0; v < std::size(variants); ++v) {
+        if (variants[v].pathLength && !variants[v].interior && !options.pathLength) continue;
+        GradientOptions g;
+        g.render = renderOptions;
+        g.interior = variants[v].interior, g.edges = variants[v].edges;
+        g.pathLength = variants[v].pathLength && options.pathLength;
+        start = std::chrono::steady_clock::now();
+        lossGradient(renderer, device, views, g, state);
+        terms[v].push_back(secondsSince(start));
+      }
+    }
+    row.updateSeconds = median(update);
+    row.renderSeconds = median(render);
+    for (size_t v = 0; v < std::size(variants); ++v)
+      *variants[v].seconds = terms[v].empty() ? std::nan("") : median(terms[v]);
+
+    // Forward-mode lanes for a few heights: their passes' time (the scene build excluded).
+    row.denseLanes = uint32_t(std::min<uint64_t>(8, row.parameters));
+    std::vector<std::string> names;
+    for (uint32_t k = 0; k < row.denseLanes; ++k) names.push_back(scene.parameters[(k * 7919u) % row.parameters].name);
+    GradientOptions dense;
+    dense.render = renderOptions;
+    dense.pathLength = options.pathLength;  // the same terms as the adjoint gradients
+    std::vector<double> denseTimes;
+    for (uint32_t run = 0; run < options.runs; ++run)
+      denseTimes.push_back(renderGradient(renderer, scene, names, dense).stats.seconds);
+    row.denseSeconds = median(denseTimes);
+
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "  render %.4f s; adjoint gradient of all %llu heights: interior %.2fx, edges %.2fx, path-length "
+                  "boundary %.2fx, all %.2fx the render; update %.4f s; forward lanes for %u heights %.2fx",
+                  row.renderSeconds, (unsigned long long)row.parameters, row.interiorSeconds / row.renderSeconds,
+                  row.edgeSeconds / row.renderSeconds, row.boundarySeconds / row.renderSeconds,
+                  row.allSeconds / row.renderSeconds, row.updateSeconds, row.denseLanes,
+                  row.denseSeconds / row.renderSeconds);
+    log(line);
+    report.rows.push_back(row);
+  }
+  return report;
+}
+
+void writeBenchAdjointReport(const BenchAdjointReport& report, const BenchAdjointOptions& options, const std::string& command) {
+  std::ostringstream csv;
+  csv << "size,parameters,triangles,build_s,update_s,render_s,interior_s,edge_s,boundary_s,all_s,dense_lanes,dense_s\n";
+  for (const BenchAdjointRow& r : report.rows)
+    csv << r.size << "," << r.parameters << "," << r.triangles << "," << r.buildSeconds << "," << r.updateSeconds << ","
+        << r.renderSeconds << "," << r.interiorSeconds << "," << r.edgeSeconds << "," << r.boundarySeconds << ","
+        << r.allSeconds << "," << r.denseLanes << "," << r.denseSeconds << "\n";
+  std::filesystem::create_directories(options.outDir);
+  writeFileAtomic(options.outDir / "bench.csv", csv.str());
+
+  std::ostringstream md;
+  md << "Command: `" << command << "`  \nDevice: " << report.device << "  \nMedians of " << options.runs
+     << " runs. Times in seconds; ratios to the primal render of the same image and samples.\n\n"
+     << "| heightfield | parameters | triangles | render | interior | edges | path-length boundary | all terms run "
+        "| update | forward lanes (heights) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  auto ratio = [](double seconds, double render) {
+    if (std::isnan(seconds)) return std::string("skipped");
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2fx", seconds / render);
+    return std::string(text);
+  };
+  char cell[512];
+  for (const BenchAdjointRow& r : report.rows) {
+    std::snprintf(cell, sizeof cell, "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %.4f | %s (%u) |\n", r.size,
+                  r.size, (unsigned long long)r.parameters, (unsigned long long)r.triangles, r.renderSeconds,
+                  ratio(r.interiorSeconds, r.renderSeconds).c_str(), ratio(r.edgeSeconds, r.renderSeconds).c_str(),
+                  ratio(r.boundarySeconds, r.renderSeconds).c_str(), ratio(r.allSeconds, r.renderSeconds).c_str(),
+                  r.updateSeconds, ratio(r.denseSeconds, r.renderSeconds).c_str(), r.denseLanes);
+    md << cell;
+  }
+  writeFileAtomic(options.outDir / "table.md", md.str());
+}
+
+}  // namespace vktg

@@ -1,0 +1,42 @@
+// `vktg bench adjoint`: what a loss gradient costs relative to a render as the parameter count
+// grows. An n x n heightfield (n^2 height parameters) under a point light is rendered, and the
+// gradient of an image loss with respect to every height is taken by the adjoint passes (each
+// term alone and all three together) and, for contrast, by forward-mode lanes for a few heights.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/bench_common.h"
+#include "host/vk_context.h"
+
+namespace vktg {
+
+struct BenchAdjointOptions : BenchOptions {
+  std::vector<uint32_t> sizes = {11, 100, 1000};  // heightfield vertices per side
+  uint32_t resolution = 128;                      // image width and height (times BenchOptions::scale)
+  uint32_t spp = 16;                              // of the render and of every gradient term
+  bool pathLength = true;                         // false: skip the path-length-boundary term (and "all three")
+};
+
+struct BenchAdjointRow {
+  uint32_t size = 0;              // n
+  uint64_t parameters = 0;        // n^2
+  uint64_t triangles = 0;
+  double buildSeconds = 0;        // device scene: prepare, BVH, upload (once)
+  double updateSeconds = 0;       // per iteration: move vertices, refit, tables
+  double renderSeconds = 0;       // the primal render
+  double interiorSeconds = 0, edgeSeconds = 0, boundarySeconds = 0, allSeconds = 0;  // adjoint gradients (NaN: skipped)
+  uint32_t denseLanes = 0;        // parameters of the forward-mode contrast
+  double denseSeconds = 0;        // their derivative images (all terms)
+};
+
+struct BenchAdjointReport {
+  std::vector<BenchAdjointRow> rows;
+  std::string device;
+};
+
+BenchAdjointReport benchAdjoint(VulkanContext& context, const BenchAdjointOptions& options);
+// bench.csv and table.md in options.outDir.
+void writeBenchAdjointReport(const BenchAdjointReport& report, const BenchAdjointOptions& options, const std::string& command);
+
+}  // namespace vktg
