@@ -7,7 +7,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
-#include "host/bench_adjoint.h"
+#include "host/bench_optimize.h"
 #include "host/bench_grad.h"
 #include "host/bench_render.h"
 
@@ -17,7 +17,7 @@ const CommandSpec& benchSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "bench";
-    s.usage = "bench render|grad|adjoint [options]";
+    s.usage = "bench render|grad|optimize [options]";
     s.description =
         "Measures accuracy versus time: relMSE against an exact (confocal plane) or cached high-sample\n"
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
@@ -25,15 +25,16 @@ const CommandSpec& benchSpec() {
         "cutoff saves. `bench grad`: relMSE versus time of d M / d h on the confocal plane against its exact\n"
         "value (standard, ellipsoidal and antithetic estimators), of the path-length-boundary term with and\n"
         "without antithetic pairs, of the edge term against its budget, and the time of a gradient relative\n"
-        "to a render. `bench adjoint`: the cost of a loss gradient with respect to every height of an n x n\n"
+        "to a render. `bench optimize`: the cost of a loss gradient with respect to every height of an n x n\n"
         "heightfield (each term alone and all three) relative to a render, as n grows, against forward-mode\n"
-        "lanes. Writes bench.csv, plot.png (render, grad) and table.md into the output directory.";
+        "lanes, and of a whole iteration of `vktg optimize`. Writes bench.csv, plot.png and table.md into the\n"
+        "output directory.";
     s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
                  {"--scale", "X", "multiplies every sample count (default 1; 0.25 for a quick look)"},
-                 {"--sizes", "N,N,...", "adjoint: heightfield vertices per side (default 11,100,1000)"},
-                 {"--no-path-length", "", "adjoint: leave out the path-length-boundary term"}};
+                 {"--sizes", "N,N,...", "optimize: heightfield vertices per side (default 11,100,1000)"},
+                 {"--no-path-length", "", "optimize: leave out the path-length-boundary term"}};
     for (auto& o : deviceOptions()) s.options.push_back(o);
     s.examples = "  vktg bench render --out runs/bench-render\n  vktg bench render --scale 0.25 --runs 1 --steps 3\n";
     return s;
@@ -41,7 +42,7 @@ const CommandSpec& benchSpec() {
   return spec;
 }
 
-// "11,100,1000": heightfield sizes of `bench adjoint`, each in [2, 4096].
+// "11,100,1000": heightfield sizes of `bench optimize`, each in [2, 4096].
 std::vector<uint32_t> parseSizes(const std::string& text) {
   std::vector<uint32_t> sizes;
   std::stringstream in(text);
@@ -63,8 +64,8 @@ int runBench(const std::vector<std::string>& argv) {
     return 0;
   }
   const std::string which = args.positionals.empty() ? "" : args.positionals[0];
-  if (which != "render" && which != "grad" && which != "adjoint")
-    throw UsageError("which benchmark? `vktg bench render`, `vktg bench grad` or `vktg bench adjoint`");
+  if (which != "render" && which != "grad" && which != "optimize")
+    throw UsageError("which benchmark? `vktg bench render`, `vktg bench grad` or `vktg bench optimize`");
   std::string command = "vktg bench";
   for (const auto& a : argv) command += " " + a;
   bool quiet = args.has("--quiet");
@@ -82,13 +83,13 @@ int runBench(const std::vector<std::string>& argv) {
   options.memoryBudget = memoryBudget(args);
   options.log = log;
   auto context = makeContext(args);
-  if (which == "adjoint") {
-    BenchAdjointOptions adjoint;
-    static_cast<BenchOptions&>(adjoint) = options;
-    if (auto sizes = args.get("--sizes")) adjoint.sizes = parseSizes(*sizes);
-    adjoint.pathLength = !args.has("--no-path-length");
-    writeBenchAdjointReport(benchAdjoint(*context, adjoint), adjoint, command);
-    log("wrote " + options.outDir.string() + "/{bench.csv,table.md}");
+  if (which == "optimize") {
+    BenchOptimizeOptions bench;
+    static_cast<BenchOptions&>(bench) = options;
+    if (auto sizes = args.get("--sizes")) bench.sizes = parseSizes(*sizes);
+    bench.pathLength = !args.has("--no-path-length");
+    writeBenchOptimizeReport(benchOptimize(*context, bench), bench, command);
+    log("wrote " + options.outDir.string() + "/{bench.csv,plot.png,table.md}");
     return finishWithValidationCheck(*context, 0);
   }
   if (which == "grad")

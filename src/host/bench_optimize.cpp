@@ -1,4 +1,4 @@
-#include "host/bench_adjoint.h"
+#include "host/bench_optimize.h"
 
 #include <chrono>
 #include <cmath>
@@ -10,6 +10,7 @@
 #include "host/device_scene.h"
 #include "host/gradient.h"
 #include "host/renderer.h"
+#include "opt/plot.h"
 #include "scene/primitives.h"
 #include "vktg/image_io.h"
 #include "vktg/parameter_model.h"
@@ -72,8 +73,8 @@ ImageSet randomAdjoint(uint32_t width, uint32_t height) {
 
 }  // namespace
 
-BenchAdjointReport benchAdjoint(VulkanContext& context, const BenchAdjointOptions& options) {
-  BenchAdjointReport report;
+BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOptions& options) {
+  BenchOptimizeReport report;
   report.device = context.report().name;
   auto log = [&](const std::string& line) {
     if (options.log) options.log(line);
@@ -82,7 +83,7 @@ BenchAdjointReport benchAdjoint(VulkanContext& context, const BenchAdjointOption
   const uint32_t spp = std::max(1u, uint32_t(std::lround(options.spp * options.scale)));
   Renderer renderer(context);
   for (uint32_t n : options.sizes) {
-    BenchAdjointRow row;
+    BenchOptimizeRow row;
     row.size = n;
     row.parameters = uint64_t(n) * n;
     const Scene scene = heightfieldScene(n, resolution, spp);
@@ -176,13 +177,14 @@ BenchAdjointReport benchAdjoint(VulkanContext& context, const BenchAdjointOption
   return report;
 }
 
-void writeBenchAdjointReport(const BenchAdjointReport& report, const BenchAdjointOptions& options, const std::string& command) {
+void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOptimizeOptions& options, const std::string& command) {
   std::ostringstream csv;
-  csv << "size,parameters,triangles,build_s,update_s,render_s,interior_s,edge_s,boundary_s,all_s,dense_lanes,dense_s\n";
-  for (const BenchAdjointRow& r : report.rows)
+  csv << "size,parameters,triangles,build_s,update_s,render_s,interior_s,edge_s,boundary_s,all_s,iteration_s,dense_lanes,"
+         "dense_s\n";
+  for (const BenchOptimizeRow& r : report.rows)
     csv << r.size << "," << r.parameters << "," << r.triangles << "," << r.buildSeconds << "," << r.updateSeconds << ","
         << r.renderSeconds << "," << r.interiorSeconds << "," << r.edgeSeconds << "," << r.boundarySeconds << ","
-        << r.allSeconds << "," << r.denseLanes << "," << r.denseSeconds << "\n";
+        << r.allSeconds << "," << r.iterationSeconds() << "," << r.denseLanes << "," << r.denseSeconds << "\n";
   std::filesystem::create_directories(options.outDir);
   writeFileAtomic(options.outDir / "bench.csv", csv.str());
 
@@ -190,7 +192,7 @@ void writeBenchAdjointReport(const BenchAdjointReport& report, const BenchAdjoin
   md << "Command: `" << command << "`  \nDevice: " << report.device << "  \nMedians of " << options.runs
      << " runs. Times in seconds; ratios to the primal render of the same image and samples.\n\n"
      << "| heightfield | parameters | triangles | render | interior | edges | path-length boundary | all terms run "
-        "| update | forward lanes (heights) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        "| update | iteration | forward lanes (heights) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto ratio = [](double seconds, double render) {
     if (std::isnan(seconds)) return std::string("skipped");
     char text[32];
@@ -198,15 +200,31 @@ void writeBenchAdjointReport(const BenchAdjointReport& report, const BenchAdjoin
     return std::string(text);
   };
   char cell[512];
-  for (const BenchAdjointRow& r : report.rows) {
-    std::snprintf(cell, sizeof cell, "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %.4f | %s (%u) |\n", r.size,
+  for (const BenchOptimizeRow& r : report.rows) {
+    std::snprintf(cell, sizeof cell, "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %.4f | %s | %s (%u) |\n", r.size,
                   r.size, (unsigned long long)r.parameters, (unsigned long long)r.triangles, r.renderSeconds,
                   ratio(r.interiorSeconds, r.renderSeconds).c_str(), ratio(r.edgeSeconds, r.renderSeconds).c_str(),
                   ratio(r.boundarySeconds, r.renderSeconds).c_str(), ratio(r.allSeconds, r.renderSeconds).c_str(),
-                  r.updateSeconds, ratio(r.denseSeconds, r.renderSeconds).c_str(), r.denseLanes);
+                  r.updateSeconds, ratio(r.iterationSeconds(), r.renderSeconds).c_str(),
+                  ratio(r.denseSeconds, r.renderSeconds).c_str(), r.denseLanes);
     md << cell;
   }
   writeFileAtomic(options.outDir / "table.md", md.str());
+
+  LinePlot plot{"Cost relative to a render (" + report.device + ")", "log10 parameters", "seconds / render", true, {}};
+  PlotSeries iteration{"iteration"}, all{"gradient, all terms run"}, interior{"interior"}, edges{"edges"},
+      boundary{"path-length boundary"}, dense{"forward lanes"};
+  for (const BenchOptimizeRow& r : report.rows) {
+    const double x = std::log10(double(r.parameters));
+    for (auto [series, seconds] : {std::pair{&iteration, r.iterationSeconds()}, {&all, r.allSeconds},
+                                   {&interior, r.interiorSeconds}, {&edges, r.edgeSeconds},
+                                   {&boundary, r.boundarySeconds}, {&dense, r.denseSeconds}}) {
+      series->x.push_back(x);
+      series->y.push_back(seconds / r.renderSeconds);
+    }
+  }
+  plot.series = {iteration, all, interior, edges, boundary, dense};
+  writeLinePlot(options.outDir / "plot.png", plot);
 }
 
 }  // namespace vktg

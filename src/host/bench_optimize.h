@@ -1,5 +1,5 @@
-// `vktg bench adjoint`: what a loss gradient costs relative to a render as the parameter count
-// grows. An n x n heightfield (n^2 height parameters) under a point light is rendered, and the
+// `vktg bench optimize`: what an optimisation iteration and its loss gradient cost relative to a
+// render as the parameter count grows. An n x n heightfield (n^2 height parameters) under a point light is rendered, and the
 // gradient of an image loss with respect to every height is taken by the adjoint passes (each
 // term alone and all three together) and, for contrast, by forward-mode lanes for a few heights.
 #pragma once
@@ -11,14 +11,14 @@
 
 namespace vktg {
 
-struct BenchAdjointOptions : BenchOptions {
+struct BenchOptimizeOptions : BenchOptions {
   std::vector<uint32_t> sizes = {11, 100, 1000};  // heightfield vertices per side
   uint32_t resolution = 128;                      // image width and height (times BenchOptions::scale)
   uint32_t spp = 16;                              // of the render and of every gradient term
   bool pathLength = true;                         // false: skip the path-length-boundary term (and "all three")
 };
 
-struct BenchAdjointRow {
+struct BenchOptimizeRow {
   uint32_t size = 0;              // n
   uint64_t parameters = 0;        // n^2
   uint64_t triangles = 0;
@@ -28,15 +28,18 @@ struct BenchAdjointRow {
   double interiorSeconds = 0, edgeSeconds = 0, boundarySeconds = 0, allSeconds = 0;  // adjoint gradients (NaN: skipped)
   uint32_t denseLanes = 0;        // parameters of the forward-mode contrast
   double denseSeconds = 0;        // their derivative images (all terms)
+  // An iteration of `vktg optimize` on the device: update + render + the gradient of every term run
+  // (the loss and the optimiser step are host work linear in pixels and parameters, not timed).
+  double iterationSeconds() const { return updateSeconds + renderSeconds + allSeconds; }
 };
 
-struct BenchAdjointReport {
-  std::vector<BenchAdjointRow> rows;
+struct BenchOptimizeReport {
+  std::vector<BenchOptimizeRow> rows;
   std::string device;
 };
 
-BenchAdjointReport benchAdjoint(VulkanContext& context, const BenchAdjointOptions& options);
-// bench.csv and table.md in options.outDir.
-void writeBenchAdjointReport(const BenchAdjointReport& report, const BenchAdjointOptions& options, const std::string& command);
+BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOptions& options);
+// bench.csv, table.md and plot.png (cost / render against log10 of the parameter count) in options.outDir.
+void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOptimizeOptions& options, const std::string& command);
 
 }  // namespace vktg
