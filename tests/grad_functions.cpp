@@ -409,8 +409,8 @@ TEST_P(GradGate, WeightDerivativesMatchFiniteDifferences) {
   for (uint32_t i = 0; i < kCount; ++i) {
     const float* o = &out[8 * i];
     const uint32_t layer = in[i].layer;
-    // x = [L, shift of the gate]; W(L; shift) = shiftedGate(gate, shift).weight(L).
-    ScalarFunction f = [&gate, layer](const std::vector<double>& x) { return shiftedGate(gate, x[1]).weight(x[0], layer); };
+    // x = [L, shift of the gate]; W(L; shift) = gate.shifted(shift).weight(L).
+    ScalarFunction f = [&gate, layer](const std::vector<double>& x) { return gate.shifted(x[1]).weight(x[0], layer); };
     Input lengthOnly{{in[i].length, 0.0}, {in[i].rate, 0.0}, {0, 1}, {false, false}};
     Input centreOnly{{in[i].length, 0.0}, {0.0, 1.0}, {0, 1}, {false, false}};
     Input both{{in[i].length, 0.0}, {in[i].rate, in[i].centreRate}, {0, 1}, {false, false}};

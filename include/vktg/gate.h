@@ -22,6 +22,8 @@ struct Gate {
   uint32_t layers() const { return type == GateType::Bins ? binCount : 1; }
   // W_k(L) for layer k (k = 0 unless bins).
   double weight(double length, uint32_t layer = 0) const;
+  // The same gate moved towards longer paths by `delta` metres: W'(L) = W(L - delta) (gate_center).
+  Gate shifted(double delta) const;
   // Sum over layers of W_k(L): the density gate sampling draws from.
   double totalWeight(double length) const;
   // Lengths outside [supportMin, supportMax] have W = 0 (gaussians: |L - mu| > kGaussianCutoff sigma).

@@ -67,16 +67,7 @@ TargetSetup targetSetup(const Experiment& e, size_t t) {
   return s;
 }
 
-// The gate as θ sees it: shifted by the optimised gate-centre parameters.
-Gate shiftedGate(const Gate& gate, double shift) {
-  Gate g = gate;
-  g.mu += shift;
-  g.a += shift;
-  g.b += shift;
-  g.binStart += shift;
-  return g;
-}
-
+// The gate as θ sees it is shifted by the optimised gate-centre parameters.
 double gateShift(const Experiment& e, const std::vector<double>& theta) {
   double shift = 0;
   for (size_t k = 0; k < e.parameters.size(); ++k)
@@ -137,7 +128,7 @@ std::vector<ImageSet> targetImages(VulkanContext& context, Renderer& renderer, c
     if (!truthScene) truthScene.emplace(context, model, truth, truth);
     TargetSetup s = targetSetup(e, t);
     truthScene->placePointLights(s.lights);
-    s.setup.gate = shiftedGate(s.setup.gate, gateShift(e, truth));
+    s.setup.gate = s.setup.gate.shifted(gateShift(e, truth));
     s.setup.settings.spp = target.synthesizeSpp;
     s.setup.settings.seed = target.synthesizeSeed;
     if (progress) progress("synthesising target " + target.name + " at the truth (" + std::to_string(target.synthesizeSpp) + " spp)");
@@ -270,7 +261,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       double loss = 0;
       for (size_t t = 0; t < e.targets.size(); ++t) {
         RenderSetup setup = setups[t].setup;
-        setup.gate = shiftedGate(setup.gate, shift);
+        setup.gate = setup.gate.shifted(shift);
         scene.placePointLights(setups[t].lights);
         setup.settings.spp = e.budget.sppPrimal;
         setup.settings.seed = seedFor(e.seed, i, t, 0);

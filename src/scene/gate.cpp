@@ -48,6 +48,21 @@ double parseLength(const std::string& text, const std::string& field) {
 
 }  // namespace
 
+Gate Gate::shifted(double delta) const {
+  Gate g = *this;
+  switch (type) {
+    case GateType::Steady: break;
+    case GateType::Gaussian: g.mu += delta; break;
+    case GateType::TruncatedGaussian: g.mu += delta; [[fallthrough]];
+    case GateType::Box:
+      g.a += delta;
+      g.b += delta;
+      break;
+    case GateType::Bins: g.binStart += delta; break;
+  }
+  return g;
+}
+
 double Gate::weight(double length, uint32_t layer) const {
   switch (type) {
     case GateType::Steady: return 1.0;

@@ -293,16 +293,7 @@ void applyParameter(Scene& out, const Parameter& p, double delta) {
     }
     case ParameterKind::GateCenter: {
       Gate& gate = out.gate;
-      switch (gate.type) {
-        case GateType::Steady: break;  // rejected by parameterProblem
-        case GateType::Gaussian: gate.mu += delta; break;
-        case GateType::TruncatedGaussian: gate.mu += delta; [[fallthrough]];
-        case GateType::Box:
-          gate.a += delta;
-          gate.b += delta;
-          break;
-        case GateType::Bins: gate.binStart += delta; break;
-      }
+      gate = gate.shifted(delta);  // a steady gate is rejected by parameterProblem
       try {
         validateGate(gate, file, name);
       } catch (const Error& e) {

@@ -42,14 +42,6 @@ glm::dvec3 rayHitVelocityReference(const glm::dvec3& w, const glm::dvec3& p0, co
   return w * (glm::dot(n, xdot) / glm::dot(n, w));
 }
 
-Gate shiftedGate(const Gate& gate, double shift) {
-  Gate g = gate;
-  g.mu += shift;
-  g.a += shift;
-  g.b += shift;
-  g.binStart += shift;
-  return g;
-}
 
 namespace {
 

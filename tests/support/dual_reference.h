@@ -34,9 +34,6 @@ glm::dvec3 rayHitVelocityReference(const glm::dvec3& w, const glm::dvec3& p0, co
                                    const glm::dvec3& p2, const glm::dvec3& v0, const glm::dvec3& v1,
                                    const glm::dvec3& v2, double u, double v);
 
-// The gate shifted by `shift` along L (mu, a, b, bin start): W_shift(L) = W(L - shift).
-Gate shiftedGate(const Gate& gate, double shift);
-
 // ---- Finite differences ----------------------------------------------------------------------------
 // A scalar function of a flat input vector (the values of the kernel's inputs, as doubles).
 using ScalarFunction = std::function<double(const std::vector<double>&)>;
