@@ -1,0 +1,58 @@
+// The heightfield experiment (experiments/heightfield, docs/experiments.md) at reduced length:
+// 121 heights and the albedo recovered from 12 time-gated images (3 laser positions x 4 gaussian
+// gates) and from one steady-state image of the same scene, both starting flat and too dark. Asserts the documented outcome:
+// the time-of-flight run's parameter error falls below a stated bound, and the steady run ends
+// measurably worse. Errors are medians over the last 10 iterations (Adam oscillates about its
+// optimum by about its learning rate).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "host/optimize.h"
+#include "opt/run_directory.h"
+#include "support/cli_runner.h"
+#include "support/gpu_context.h"
+
+namespace vktg {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kExperiment = fs::path(VKTG_SOURCE_DIR) / "experiments" / "heightfield";
+constexpr uint32_t kIterations = 60;  // of the documented 150
+// Documented outcome at 150 iterations (docs/experiments.md): time of flight 0.053 -> below 0.003;
+// steady state 0.053 -> about 0.08 (it moves away: albedo and height trade off in one image).
+// At 60 iterations: time of flight below a quarter of the start (measured 0.004 of 0.053), steady
+// state at least 3x worse (measured about 0.085).
+constexpr double kTofBound = 0.25, kSteadyRatio = 3.0;
+
+std::vector<double> parameterErrors(const fs::path& experiment, const fs::path& out) {
+  OptimizeOptions o;
+  o.experiment = experiment;
+  o.runDirectory = out;
+  o.iterations = kIterations;
+  optimize(test::testContext(), o);
+  return readLogColumns(out / "log.csv").at("parameter_error");
+}
+
+double medianOfLast10(std::vector<double> v) {
+  v.erase(v.begin(), v.end() - std::min<size_t>(10, v.size()));
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+TEST(ExperimentHeightfield, TimeOfFlightRecoversWhatSteadyStateCannot) {
+  test::TempDir dir;
+  const std::vector<double> tof = parameterErrors(kExperiment / "tof.experiment.json", dir / "tof");
+  const std::vector<double> steady = parameterErrors(kExperiment / "steady.experiment.json", dir / "steady");
+  const double tofFinal = medianOfLast10(tof), steadyFinal = medianOfLast10(steady);
+  std::printf("  parameter error after %u iterations: time of flight %.5f, steady %.5f (both from %.5f)\n", kIterations,
+              tofFinal, steadyFinal, tof.front());
+  EXPECT_NEAR(tof.front(), steady.front(), 1e-12);
+  EXPECT_LT(tofFinal, kTofBound * tof.front());
+  EXPECT_GT(steadyFinal, kSteadyRatio * tofFinal);
+}
+
+}  // namespace
+}  // namespace vktg
