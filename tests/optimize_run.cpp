@@ -201,5 +201,28 @@ TEST(OptimizeCli, RunWritesItsFilesAndTheOptimisedSceneRenders) {
   EXPECT_EQ(readLogColumns(out / "log.csv").at("iteration").size(), 14u);
 }
 
+// The real thing: SIGINT to the vktg process while it optimises. It writes a checkpoint, exits with
+// 128 + 2, leaves no temporary file, and --resume finishes the run like an uninterrupted one.
+TEST(OptimizeCli, CtrlCCheckpointsAndResumeFinishesTheRun) {
+  TempDir dir;
+  const std::string experiment = (kData / "converge_light.json").string();
+  test::CliResult whole = test::runVktg({"optimize", experiment, "--out", (dir / "whole").string(), "--iterations", "8"});
+  ASSERT_TRUE(whole.exited && whole.exitCode == 0) << whole.describe();
+  test::CliOptions ctrlC;
+  ctrlC.signalWhen = "iteration 3/";
+  test::CliResult r = test::runVktg({"optimize", experiment, "--out", (dir / "parts").string(), "--iterations", "8"}, ctrlC);
+  ASSERT_TRUE(r.exited) << r.describe();
+  EXPECT_EQ(r.exitCode, 128 + 2) << r.describe();
+  EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
+  const uint64_t stopped = readCheckpoint(dir / "parts" / "checkpoint.bin").iteration;
+  EXPECT_GE(stopped, 4u);
+  EXPECT_LT(stopped, 8u) << "the signal came too late to interrupt anything";
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(dir / "parts"))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
+  r = test::runVktg({"optimize", "--resume", (dir / "parts").string(), "--iterations", "8"});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_EQ(rowsWithoutTime(dir / "parts" / "log.csv"), rowsWithoutTime(dir / "whole" / "log.csv"));
+}
+
 }  // namespace
 }  // namespace vktg

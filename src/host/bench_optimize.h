@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "host/bench_common.h"
+#include "host/device_scene.h"
 #include "host/vk_context.h"
 
 namespace vktg {
@@ -23,14 +24,17 @@ struct BenchOptimizeRow {
   uint64_t parameters = 0;        // n^2
   uint64_t triangles = 0;
   double buildSeconds = 0;        // device scene: prepare, BVH, upload (once)
-  double updateSeconds = 0;       // per iteration: move vertices, refit, tables
+  double updateSeconds = 0;       // per iteration: move vertices, refit on the device, tables
+  double checkSeconds = 0;        // the host's SAH check of the refit tree (every kBvhQualityCheckInterval)
   double renderSeconds = 0;       // the primal render
   double interiorSeconds = 0, edgeSeconds = 0, boundarySeconds = 0, allSeconds = 0;  // adjoint gradients (NaN: skipped)
   uint32_t denseLanes = 0;        // parameters of the forward-mode contrast
   double denseSeconds = 0;        // their derivative images (all terms)
   // An iteration of `vktg optimize` on the device: update + render + the gradient of every term run
   // (the loss and the optimiser step are host work linear in pixels and parameters, not timed).
-  double iterationSeconds() const { return updateSeconds + renderSeconds + allSeconds; }
+  double iterationSeconds() const {
+    return updateSeconds + checkSeconds / double(kBvhQualityCheckInterval) + renderSeconds + allSeconds;
+  }
 };
 
 struct BenchOptimizeReport {

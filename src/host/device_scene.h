@@ -19,6 +19,10 @@
 
 namespace vktg {
 
+// How often (in updates) an optimisation compares the refit BVH's SAH cost with the built tree's
+// (a host refit of the whole tree: the costly part of an update of a large mesh).
+inline constexpr uint64_t kBvhQualityCheckInterval = 8;
+
 // A refit tree is rebuilt once its SAH cost exceeds this multiple of its cost when built.
 inline constexpr double kBvhRebuildRatio = 1.5;
 

@@ -26,9 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The device BVH's quality is checked every this many iterations (deterministic: by iteration).
-constexpr uint64_t kBvhCheckInterval = 8;
-
 // Random numbers of iteration `iteration`, target `target` and use `use` (0: the render the loss
 // comes from, 1: the gradient's renders; independent, as THEORY.md §7 requires): a hash of
 // (seed, iteration, target, use).
@@ -252,7 +249,8 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
     for (uint64_t i = start; i < e.stop.iterations; ++i) {
       throwIfInterrupted();
       const auto iterationStart = std::chrono::steady_clock::now();
-      scene.update(theta, model.movesVertices() && i % kBvhCheckInterval == 0);
+      // The BVH check goes by iteration, so a resumed run checks where the original did.
+      scene.update(theta, model.movesVertices() && i % kBvhQualityCheckInterval == 0);
       const double shift = gateShift(e, theta);
       // The loss and its adjoint images, from renders with their own random numbers.
       std::vector<double> losses(e.targets.size());

@@ -94,6 +94,7 @@ CliResult runVktg(const std::vector<std::string>& args, const CliOptions& option
   pollfd fds[2] = {{outPipe[0], POLLIN, 0}, {errPipe[0], POLLIN, 0}};
   std::string* sinks[2] = {&result.out, &result.err};
   int openCount = 2;
+  bool signalled = false;
   while (openCount > 0) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) {
@@ -109,6 +110,10 @@ CliResult runVktg(const std::vector<std::string>& args, const CliOptions& option
       ssize_t n = read(fds[i].fd, buffer, sizeof buffer);
       if (n > 0) {
         sinks[i]->append(buffer, size_t(n));
+        if (!signalled && !options.signalWhen.empty() && result.err.find(options.signalWhen) != std::string::npos) {
+          kill(pid, options.signal);
+          signalled = true;
+        }
       } else if (n == 0 || errno != EINTR) {
         close(fds[i].fd);
         fds[i].fd = -1;

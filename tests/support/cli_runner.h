@@ -26,6 +26,10 @@ struct CliOptions {
   std::map<std::string, std::string> env;  // set (over the inherited environment) in the child
   std::filesystem::path cwd;               // working directory; empty: inherit
   double timeoutSeconds = 300;
+  // Non-empty: once the child's stderr contains this text, the runner sends it `signal` (once), as
+  // a user's Ctrl-C would.
+  std::string signalWhen;
+  int signal = 2;  // SIGINT
 };
 
 // Runs VKTG_BINARY with `args`. The child always runs with VKTG_VALIDATION=1 (so a validation
