@@ -4,10 +4,12 @@
 // one, and the files of a run are there and valid.
 //
 // Convergence bounds: each run starts at a stated parameter error e0 and must end below a fraction
-// of it. The error is the median over the last 10 iterations, so that Adam's oscillation about the
-// optimum (of the order of its learning rate) does not decide the test. The fractions (1/4 and
-// 1/3) are far above the scatter of the final error over seeds, and far below what a gradient
-// with a wrong sign, scale or missing term reaches (the error then grows or stalls near e0).
+// of it. The error is the median over the last 10 iterations. Measured over seeds 1-4 of the
+// experiment files (`seed`), the final errors were: plane 0.0036-0.0056 (bound 0.03), heightfield
+// 0.0074-0.0097 (bound 0.0167); light height 0.024 with seed 1 (bound 0.1). A gradient with a
+// wrong sign, scale or missing term leaves the error near e0 or makes it grow. (Before the plane's
+// boundary samples were raised to 4096 and the learning rates given a decay, one seed in four
+// stalled at 0.106: a test of one seed had hidden that.)
 #include <gtest/gtest.h>
 
 #include <algorithm>

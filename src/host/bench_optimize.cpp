@@ -121,9 +121,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
       GradientOptions g;
       g.render = renderOptions;
       g.interior = v.interior, g.edges = v.edges, g.pathLength = v.pathLength && options.pathLength;
-      const LossGradient warm = lossGradient(renderer, device, views, g, state);
-      log("    warm-up: " + std::to_string(warm.attempts) + " attempts, " + std::to_string(warm.stats.paths) + " paths, " +
-          std::to_string(warm.stats.batches) + " batches, " + std::to_string(warm.stats.seconds) + " s");
+      lossGradient(renderer, device, views, g, state);
     }
     std::vector<double> update, checked, render;
     std::vector<std::vector<double>> terms(std::size(variants));

@@ -102,21 +102,17 @@ std::vector<std::string> logColumns(const Experiment& e) {
   return columns;
 }
 
-// The target images: read from their EXR files, or rendered at the truth with independent random
-// numbers (kept in targets/ so that a resumed run reads them back instead of rendering again).
-std::vector<ImageSet> targetImages(VulkanContext& context, Renderer& renderer, const Experiment& e,
-                                   const ParameterModel& model, const fs::path& run,
-                                   const std::function<void(const std::string&)>& progress) {
-  std::vector<ImageSet> images(e.targets.size());
+// Synthesised targets: rendered at the truth with independent random numbers, and kept in
+// targets/ so that a resumed run reads them back instead of rendering again.
+void synthesizeTargets(VulkanContext& context, Renderer& renderer, const Experiment& e, const ParameterModel& model,
+                       const fs::path& run, uint64_t memoryBudget,
+                       const std::function<void(const std::string&)>& progress, std::vector<ImageSet>& images) {
   std::optional<DeviceScene> truthScene;
   std::vector<double> truth;
   for (const ExperimentParameter& p : e.parameters) truth.push_back(p.truth.value_or(0.0));
   for (size_t t = 0; t < e.targets.size(); ++t) {
     const Target& target = e.targets[t];
-    if (!target.synthesize) {
-      images[t] = loadTargetImage(e, t);
-      continue;
-    }
+    if (!target.synthesize) continue;
     const fs::path saved = run / "targets" / (target.name + ".exr");
     if (fs::exists(saved)) {
       images[t] = readExr(saved);
@@ -130,12 +126,11 @@ std::vector<ImageSet> targetImages(VulkanContext& context, Renderer& renderer, c
     s.setup.settings.seed = target.synthesizeSeed;
     if (progress) progress("synthesising target " + target.name + " at the truth (" + std::to_string(target.synthesizeSpp) + " spp)");
     RenderOptions options;
-    options.memoryBudget = 512ull << 20;
+    options.memoryBudget = memoryBudget;
     images[t] = renderer.render(*truthScene, s.setup, options).mean;
     checkTargetImageFinite(e, t, images[t]);
     writeExr(saved, images[t]);
   }
-  return images;
 }
 
 }  // namespace
@@ -160,12 +155,14 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
     info = {options.experiment, options.memoryBudget};
   }
   if (options.iterations) e.stop.iterations = *options.iterations;
+  // Target images from files are read (and checked against their view and gate) here, once.
+  std::vector<ImageSet> targets(e.targets.size());
   for (size_t t = 0; t < e.targets.size(); ++t)
     if (e.targets[t].synthesize) {
       for (const ExperimentParameter& p : e.parameters)
         if (!p.truth) fail(e.source.string(), "targets[" + std::to_string(t) + "].image", "synthesising needs a truth for every parameter; \"" + p.name + "\" has none");
     } else {
-      loadTargetImage(e, t);  // exists, reads, fits its view and gate
+      targets[t] = loadTargetImage(e, t);
     }
   if (!options.resume) {
     prepareRunDirectory(run, options.force);
@@ -185,10 +182,12 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
 
   ParameterModel model(e.scene, selectedIndices(e));
   Renderer renderer(context);
-  const std::vector<ImageSet> targets = targetImages(context, renderer, e, model, run, options.progress);
+  synthesizeTargets(context, renderer, e, model, run, info.memoryBudget, options.progress, targets);
   std::vector<TargetSetup> setups;
   for (size_t t = 0; t < e.targets.size(); ++t) {
     setups.push_back(targetSetup(e, t));
+    if (!e.targets[t].synthesize) continue;
+    // A synthesised target read back on --resume is a file like any other: check it.
     const Camera& c = setups[t].setup.camera;
     checkTargetImageSize(e, t, targets[t], c.type == CameraType::PointSensor ? 1 : c.width,
                          c.type == CameraType::PointSensor ? 1 : c.height, setups[t].setup.gate.layers());
@@ -264,7 +263,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
         setup.settings.spp = e.budget.sppPrimal;
         setup.settings.seed = seedFor(e.seed, i, t, 0);
         RenderResult primal = renderer.render(scene, setup, primalOptions);
-        if (options.explain && !explained)
+        if (options.explain && !explained && options.progress)
           options.progress("render plan (target " + e.targets[t].name + "):\n" + explainPlan(primal.plan));
         losses[t] = imageLoss(e.loss, primal.mean, targets[t], e.targets[t].weight, &adjointImages[t]);
         loss += losses[t];
@@ -282,7 +281,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       if (initialLoss.empty()) initialLoss = losses;
       for (size_t t = 0; t < views.size(); ++t) views[t].adjoint = &adjointImages[t];
       LossGradient g = lossGradient(renderer, scene, views, gradient, adjoint);
-      if (options.explain && !explained) {
+      if (options.explain && !explained && options.progress) {
         std::string plan = "gradient plan:\n";
         for (const std::string& r : g.plan.reasons) plan += "  - " + r + "\n";
         plan += "  - the adjoint image comes from a render with its own random numbers (seed of use 0), independent of the\n"
