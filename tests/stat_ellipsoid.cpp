@@ -1,4 +1,5 @@
-// Statistical tests of sampleEllipsoidConnection (shaders/lib/ellipsoid.glsl) on a small scene:
+// Statistical tests of sampleEllipsoidConnection (shaders/lib/ellipsoid.glsl), choosing triangles
+// by enumeration (kEllipsoidEnumerate; the descent: stat_ellipsoid_descent.cpp), on a small scene:
 // a square plane of two triangles and a tilted triangle above it, foci above both.
 //  1. Area density: draw s' from a smooth known density p_s, sample a connection, histogram the
 //     points per triangle. Their area density is p_s(L(x)) * |P_T grad L| * pdf_l(x) =
@@ -119,7 +120,7 @@ TEST(StatEllipsoid, AreaDensityChiSquare) {
   Scene scene = makeScene(tris);
   const size_t n = 200000;
   auto in = makeInputs(n, 21, 0.0);
-  auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene);
+  auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidEnumerate);
 
   // Chart: x in [t, t + 1) is triangle t's a-coordinate, y its b-coordinate.
   std::vector<dvec2> samples;
@@ -189,7 +190,7 @@ TEST(StatEllipsoid, MeanWeightIsAreaDerivative) {
   for (double s : {2.2, 2.9, 3.1}) {
     const size_t n = 1 << 17;
     auto in = makeInputs(n, 5 + uint32_t(s * 10), s);
-    auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene);
+    auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidEnumerate);
     double sum = 0.0, sq = 0.0;
     for (const SampleOut& o : out) {
       ASSERT_TRUE(std::isfinite(o.weight));

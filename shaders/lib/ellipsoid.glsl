@@ -6,18 +6,31 @@
 // API
 //   struct EllipsoidSample { vec3 position; uint triangle; vec2 barycentrics; float weight; };
 //   bool sampleEllipsoidConnection(vec3 f1, vec3 f2, float sPrime, vec4 u, out EllipsoidSample es);
-//       Picks one triangle the shell meets with probability w_t / sum(w) (w_t: an estimate of its
-//       clipped arc length), then phi uniformly over its arcs. weight = 1 / (pdf_l * |P_T grad L|),
-//       pdf_l = (w_t / sum w) / (Phi_t |x'(phi)|) the density per unit curve length. Returns false
-//       (weight 0, never NaN) when s' <= |f2 - f1| or the shell meets no surface.
-//       position lies on the ellipsoid (the path length is s' to float precision); barycentrics
-//       (u, v) follow the hit convention p = (1-u-v) p0 + u p1 + v p2; triangle is in BVH leaf order.
-//       Random numbers: u.y picks phi; the reservoir decision for the k-th candidate triangle uses
+//       Picks one triangle the shell meets with probability P_t, then phi uniformly over its arcs.
+//       weight = 1 / (pdf_l * |P_T grad L|), pdf_l = P_t / (Phi_t |x'(phi)|) the density per unit
+//       curve length. Returns false (weight 0, never NaN) when s' <= |f2 - f1| or the choice finds
+//       no surface. position lies on the ellipsoid (the path length is s' to float precision);
+//       barycentrics (u, v) follow the hit convention p = (1-u-v) p0 + u p1 + v p2; triangle is in
+//       BVH leaf order. How P_t comes about is kSpecEllipsoidSelection's:
+//       - kEllipsoidDescend: from the root, one child at a time with probability proportional to
+//         ellipsoidBoxImportance (a conservative estimate of the curve length inside its box, zero
+//         only where the shell cannot reach), then a triangle of the leaf with probability
+//         w_t / sum over the leaf (w_t: an estimate of its clipped arc length). Cost: the tree's
+//         depth, logarithmic in the triangle count. A descent can end in a leaf none of whose
+//         triangles the shell meets (the box test is conservative): that sample is empty, which
+//         keeps the estimate unbiased since every met triangle keeps a positive P_t.
+//       - kEllipsoidEnumerate: over every triangle the shell meets, P_t = w_t / sum(w) (the
+//         lowest-variance choice by arc length; cost grows with the triangles the shell crosses).
+//         The reference the descent is tested against.
+//       Random numbers: u.y picks phi; the k-th discrete decision (a descent level, a leaf
+//       triangle, or the k-th candidate of the enumeration's reservoir) uses
 //       hash4(bits(u.x), bits(u.z), k, bits(u.w)) (lib/rng.glsl), so decisions are independent of
 //       each other and of phi for any scene size (a re-scaled single uniform would run out of bits).
 //   float ellipsoidConnectionDensity(vec3 f1, vec3 f2, float sPrime, uint triangle, vec3 position);
-//       1 / weight of the sample that lands at `position` on `triangle` (0 if the triangle does not
-//       meet the shell); one traversal of its own to know sum(w). For MIS and tests.
+//       1 / weight of the sample that lands at `position` on `triangle` (0 if it cannot be chosen).
+//       Descent: walks the one root-to-leaf path holding `triangle` (interior nodes store where
+//       their right subtree's triangles begin); enumeration: one traversal to know sum(w). For MIS
+//       and tests.
 //   bool ellipseOnTriangle(vec3 f1, vec3 f2, float sPrime, vec3 p0, vec3 p1, vec3 p2, out EllipseArcs arcs);
 //       The per-triangle conic without the BVH (GPU-vs-CPU tests; tests/support/ellipsoid_reference
 //       is its double-precision twin and must stay in step with it).
@@ -37,6 +50,7 @@
 #ifndef VKTG_ELLIPSOID_GLSL
 #define VKTG_ELLIPSOID_GLSL
 #include "lib/rng.glsl"
+#include "lib/specialization.glsl"
 
 const uint kEllipseMaxArcs = 3u;
 // Midpoint nodes per arc for the arc-length estimate w_t (the selection weight; any positive value
@@ -283,18 +297,28 @@ bool ellipseOnTriangle(vec3 f1, vec3 f2, float sPrime, vec3 p0, vec3 p1, vec3 p2
   return arcs.count > 0u && arcs.weight > 0.0 && arcs.total > 0.0;
 }
 
-// Conservative box-vs-shell test: true whenever some point of the box has L(x) = s'. The lower
-// bound dist(f1, box) + dist(f2, box) never exceeds min L over the box; max L is attained at a
-// corner (L is convex). The slack covers float rounding so a box touching the shell is never lost.
-bool ellipsoidBoxMeetsShell(vec3 lo, vec3 hi, vec3 f1, vec3 f2, float sPrime) {
-  float lower = length(max(max(lo - f1, f1 - hi), vec3(0.0))) + length(max(max(lo - f2, f2 - hi), vec3(0.0)));
-  if (lower * (1.0 - 1e-6) > sPrime) return false;
-  float upper = 0.0;
+// Bounds of L over a box: the lower one, dist(f1, box) + dist(f2, box), never exceeds min L
+// over the box; the upper one is exact, since L is convex its maximum is at a corner. An empty box
+// (lo > hi) gets an infinite lower bound.
+void ellipsoidBoxPathLengths(vec3 lo, vec3 hi, vec3 f1, vec3 f2, out float lower, out float upper) {
+  lower = length(max(max(lo - f1, f1 - hi), vec3(0.0))) + length(max(max(lo - f2, f2 - hi), vec3(0.0)));
+  upper = 0.0;
   for (uint i = 0u; i < 8u; ++i) {
     vec3 q = vec3((i & 1u) != 0u ? hi.x : lo.x, (i & 2u) != 0u ? hi.y : lo.y, (i & 4u) != 0u ? hi.z : lo.z);
     upper = max(upper, length(q - f1) + length(q - f2));
   }
-  return sPrime <= upper * (1.0 + 1e-6);
+}
+
+// Conservative box-vs-shell test: true whenever some point of the box has L(x) = s'. The slack
+// covers float rounding so a box touching the shell is never lost.
+bool ellipsoidShellWithin(float lower, float upper, float sPrime) {
+  return lower * (1.0 - 1e-6) <= sPrime && sPrime <= upper * (1.0 + 1e-6);
+}
+
+bool ellipsoidBoxMeetsShell(vec3 lo, vec3 hi, vec3 f1, vec3 f2, float sPrime) {
+  float lower, upper;
+  ellipsoidBoxPathLengths(lo, hi, f1, f2, lower, upper);
+  return ellipsoidShellWithin(lower, upper, sPrime);
 }
 
 // One traversal over every triangle the shell meets. Returns sum(w). With `pick`, keeps one
@@ -345,6 +369,87 @@ float ellipsoidTraverse(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, ui
   return sum;
 }
 
+// Descent weight of a box: 0 when no point of it has L(x) = s' (ellipsoidShellWithin's bounds,
+// so every box holding a met triangle stays positive); otherwise its diagonal, a bound on the
+// curve length a flat surface patch inside can hold, times a tent in where s' falls between the
+// box's least and greatest path length (a shell grazing a corner crosses little of the box). The
+// floor keeps a loose lower bound (a focus inside the box) from starving a box.
+const float kEllipsoidTentFloor = 0.02;
+float ellipsoidBoxImportance(vec3 lo, vec3 hi, vec3 f1, vec3 f2, float sPrime) {
+  float lower, upper;
+  ellipsoidBoxPathLengths(lo, hi, f1, f2, lower, upper);
+  if (!ellipsoidShellWithin(lower, upper, sPrime)) return 0.0;
+  float span = upper - lower;
+  float tent = span > 0.0 ? clamp(2.0 * min(sPrime - lower, upper - sPrime) / span, 0.0, 1.0) : 1.0;
+  return max(length(hi - lo), 1e-30) * (kEllipsoidTentFloor + tent);
+}
+
+// The leaf-level choice of the descent: among the leaf's triangles the shell meets, one with
+// probability w_t / sum (a weighted reservoir whose k-th candidate decides with decision
+// `decision` + k of the key), or (pick false) the arcs of `target`. Returns the probability of
+// the choice (0 when the shell meets nothing there).
+float ellipsoidLeafChoice(GpuBvhNode node, vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, uint decision,
+                          uint target, out EllipseArcs chosen, out uint chosenTriangle) {
+  chosenTriangle = 0xffffffffu;
+  chosen.count = 0u;
+  chosen.total = 0.0;
+  chosen.weight = 0.0;
+  uint count = floatBitsToUint(node.rightMinCount.w);
+  uint first = floatBitsToUint(node.rightMaxFirst.w);
+  float sum = 0.0;
+  for (uint i = first; i < first + count; ++i) {
+    GpuTriangle tri = loadTriangle(i);
+    EllipseArcs arcs;
+    if (!ellipseOnTriangle(f1, f2, sPrime, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, arcs)) continue;
+    sum += arcs.weight;
+    bool take = pick ? bitsToUnit(hash4(uvec4(key.x, key.y, decision++, key.w)).x) * sum < arcs.weight : i == target;
+    if (take) {
+      chosen = arcs;
+      chosenTriangle = i;
+    }
+  }
+  return chosenTriangle != 0xffffffffu && sum > 0.0 ? chosen.weight / sum : 0.0;
+}
+
+// Stochastic descent (pick) or the probability of reaching `target` (pick false): returns the
+// probability of the root-to-leaf choices times the leaf choice, 0 when it ends empty.
+float ellipsoidDescend(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, uint target, out EllipseArcs chosen,
+                       out uint chosenTriangle) {
+  chosenTriangle = 0xffffffffu;
+  chosen.count = 0u;
+  chosen.total = 0.0;
+  chosen.weight = 0.0;
+  if (frame.sceneCounts.x == 0u || !(sPrime > length(f2 - f1))) return 0.0;
+  float probability = 1.0;
+  uint index = 0u;
+  // Depth is bounded by the builder (BvhBuildOptions::maxDepth); the cap only guards a corrupt tree.
+  for (uint level = 0u; level < kEllipsoidStackSize; ++level) {
+    GpuBvhNode node = loadBvhNode(index);
+    if (floatBitsToUint(node.rightMinCount.w) > 0u)
+      return probability * ellipsoidLeafChoice(node, f1, f2, sPrime, pick, key, level, target, chosen, chosenTriangle);
+    float left = ellipsoidBoxImportance(node.leftMinLeftIndex.xyz, node.leftMaxRightIndex.xyz, f1, f2, sPrime);
+    float right = ellipsoidBoxImportance(node.rightMinCount.xyz, node.rightMaxFirst.xyz, f1, f2, sPrime);
+    float total = left + right;
+    if (!(total > 0.0)) return 0.0;
+    bool goRight = pick ? bitsToUnit(hash4(uvec4(key.x, key.y, level, key.w)).x) * total >= left
+                        : target >= floatBitsToUint(node.rightMaxFirst.w);
+    float share = goRight ? right : left;
+    if (!(share > 0.0)) return 0.0;
+    probability *= share / total;
+    index = floatBitsToUint(goRight ? node.leftMaxRightIndex.w : node.leftMinLeftIndex.w);
+  }
+  return 0.0;
+}
+
+// The chosen triangle's arcs and the probability of choosing it, by the specialised selection.
+float ellipsoidChooseTriangle(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, uint target,
+                              out EllipseArcs chosen, out uint chosenTriangle) {
+  if (kSpecEllipsoidSelectionValue == kEllipsoidDescend)
+    return ellipsoidDescend(f1, f2, sPrime, pick, key, target, chosen, chosenTriangle);
+  float sum = ellipsoidTraverse(f1, f2, sPrime, pick, key, target, chosen, chosenTriangle);
+  return chosenTriangle != 0xffffffffu && sum > 0.0 ? chosen.weight / sum : 0.0;
+}
+
 bool sampleEllipsoidConnection(vec3 f1, vec3 f2, float sPrime, vec4 u, out EllipsoidSample es) {
   es.position = vec3(0.0);
   es.triangle = 0xffffffffu;
@@ -353,13 +458,13 @@ bool sampleEllipsoidConnection(vec3 f1, vec3 f2, float sPrime, vec4 u, out Ellip
   EllipseArcs arcs;
   uint tri;
   uvec4 key = uvec4(floatBitsToUint(u.x), floatBitsToUint(u.z), 0u, floatBitsToUint(u.w));
-  float sum = ellipsoidTraverse(f1, f2, sPrime, true, key, 0u, arcs, tri);
-  if (tri == 0xffffffffu || !(sum > 0.0)) return false;
+  float probability = ellipsoidChooseTriangle(f1, f2, sPrime, true, key, 0u, arcs, tri);
+  if (tri == 0xffffffffu || !(probability > 0.0)) return false;
   float phi = ellipseArcPhi(arcs, u.y);
   es.position = ellipsePoint(arcs, phi);
   es.triangle = tri;
   es.barycentrics = ellipseBarycentrics(arcs, phi);
-  float w = (sum / arcs.weight) * arcs.total * ellipseCoareaRatio(arcs, f1, f2, es.position);
+  float w = arcs.total * ellipseCoareaRatio(arcs, f1, f2, es.position) / probability;
   if (!(w > 0.0) || isinf(w)) return false;
   es.weight = w;
   return true;
@@ -368,9 +473,9 @@ bool sampleEllipsoidConnection(vec3 f1, vec3 f2, float sPrime, vec4 u, out Ellip
 float ellipsoidConnectionDensity(vec3 f1, vec3 f2, float sPrime, uint triangle, vec3 position) {
   EllipseArcs arcs;
   uint tri;
-  float sum = ellipsoidTraverse(f1, f2, sPrime, false, uvec4(0u), triangle, arcs, tri);
-  if (tri != triangle || !(sum > 0.0)) return 0.0;
-  float density = (arcs.weight / sum) / (arcs.total * ellipseCoareaRatio(arcs, f1, f2, position));
+  float probability = ellipsoidChooseTriangle(f1, f2, sPrime, false, uvec4(0u), triangle, arcs, tri);
+  if (tri != triangle || !(probability > 0.0)) return 0.0;
+  float density = probability / (arcs.total * ellipseCoareaRatio(arcs, f1, f2, position));
   return (density > 0.0 && !isinf(density)) ? density : 0.0;
 }
 #endif

@@ -11,6 +11,7 @@ layout(constant_id = 5) const uint kSpecLanesValue = 1u;  // derivative lanes (d
 layout(constant_id = 6) const uint kSpecTermValue = 0u;   // kTermInterior / kTermPathLength
 layout(constant_id = 7) const uint kSpecAntitheticValue = 0u;
 layout(constant_id = 8) const uint kSpecAdjointTargetsValue = 0u;  // kAdjoint* bits (adjoint variants)
+layout(constant_id = 9) const uint kSpecEllipsoidSelectionValue = 0u;  // kEllipsoidDescend / kEllipsoidEnumerate
 
 bool sceneHasLightType(uint type) { return (kSpecLightMaskValue & (1u << type)) != 0u; }
 bool sceneHasMaterial(uint type) { return (kSpecMaterialMaskValue & (1u << type)) != 0u; }

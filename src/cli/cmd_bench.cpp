@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "host/bench_nee.h"
 #include "host/bench_optimize.h"
 #include "host/bench_grad.h"
 #include "host/bench_render.h"
@@ -17,7 +18,7 @@ const CommandSpec& benchSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "bench";
-    s.usage = "bench render|grad|optimize [options]";
+    s.usage = "bench render|grad|optimize|nee [options]";
     s.description =
         "Measures accuracy versus time: relMSE against an exact (confocal plane) or cached high-sample\n"
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
@@ -27,13 +28,15 @@ const CommandSpec& benchSpec() {
         "without antithetic pairs, of the edge term against its budget, and the time of a gradient relative\n"
         "to a render. `bench optimize`: the cost of a loss gradient with respect to every height of an n x n\n"
         "heightfield (each term alone and all three) relative to a render, as n grows, against forward-mode\n"
-        "lanes, and of a whole iteration of `vktg optimize`. Writes bench.csv, plot.png and table.md into the\n"
-        "output directory.";
+        "lanes, and of a whole iteration of `vktg optimize`. `bench nee`: the cost per path of standard NEE and of\n"
+        "ellipsoidal NEE (triangles chosen by BVH descent or by enumeration) in the default room with an n x n\n"
+        "heightfield on its floor, as n grows; every point renders until a time budget. Writes bench.csv and\n"
+        "table.md (and plot.png, except nee) into the output directory.";
     s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
                  {"--scale", "X", "multiplies every sample count (default 1; 0.25 for a quick look)"},
-                 {"--sizes", "N,N,...", "optimize: heightfield vertices per side (default 11,100,1000)"},
+                 {"--sizes", "N,N,...", "optimize, nee: heightfield vertices per side (default 11,100,1000; nee 17,257,725)"},
                  {"--no-path-length", "", "optimize: leave out the path-length-boundary term"}};
     for (auto& o : deviceOptions()) s.options.push_back(o);
     s.examples = "  vktg bench render --out runs/bench-render\n  vktg bench render --scale 0.25 --runs 1 --steps 3\n";
@@ -64,8 +67,8 @@ int runBench(const std::vector<std::string>& argv) {
     return 0;
   }
   const std::string which = args.positionals.empty() ? "" : args.positionals[0];
-  if (which != "render" && which != "grad" && which != "optimize")
-    throw UsageError("which benchmark? `vktg bench render`, `vktg bench grad` or `vktg bench optimize`");
+  if (which != "render" && which != "grad" && which != "optimize" && which != "nee")
+    throw UsageError("which benchmark? `vktg bench render`, `vktg bench grad`, `vktg bench optimize` or `vktg bench nee`");
   std::string command = "vktg bench";
   for (const auto& a : argv) command += " " + a;
   bool quiet = args.has("--quiet");
@@ -90,6 +93,14 @@ int runBench(const std::vector<std::string>& argv) {
     bench.pathLength = !args.has("--no-path-length");
     writeBenchOptimizeReport(benchOptimize(*context, bench), bench, command);
     log("wrote " + options.outDir.string() + "/{bench.csv,plot.png,table.md}");
+    return finishWithValidationCheck(*context, 0);
+  }
+  if (which == "nee") {
+    BenchNeeOptions bench;
+    static_cast<BenchOptions&>(bench) = options;
+    if (auto sizes = args.get("--sizes")) bench.sizes = parseSizes(*sizes);
+    writeBenchNeeReport(benchNee(*context, bench), bench, command);
+    log("wrote " + options.outDir.string() + "/{bench.csv,table.md}");
     return finishWithValidationCheck(*context, 0);
   }
   if (which == "grad")

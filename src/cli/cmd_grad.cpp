@@ -119,7 +119,7 @@ int runGrad(const std::vector<std::string>& argv) {
   gradient.sppBoundary = args.count("--spp-boundary", 1, 1u << 24).value_or(0);
   gradient.sppEdge = args.count("--spp-edge", 1, 1u << 24).value_or(0);
   RenderOptions& options = gradient.render;
-  if (auto nee = args.get("--nee")) options.nee = parseNeeMode(*nee);
+  applyEstimatorOptions(args, options);
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "grad");
   checkOutputPath(exr, {args.positionals[0]});
@@ -167,7 +167,7 @@ int runFd(const std::vector<std::string>& argv) {
   auto eps = args.number("--eps");
   if (!eps || !(*eps > 0)) throw UsageError("--eps E (a positive step) is required");
   RenderOptions options;
-  if (auto nee = args.get("--nee")) options.nee = parseNeeMode(*nee);
+  applyEstimatorOptions(args, options);
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "fd");
   checkOutputPath(exr, {args.positionals[0]});

@@ -45,7 +45,7 @@ int runRender(const std::vector<std::string>& argv) {
   bool quiet = args.has("--quiet");
   Scene scene = loadSceneWithOverrides(args, true);
   RenderOptions options;
-  if (auto nee = args.get("--nee")) options.nee = parseNeeMode(*nee);
+  applyEstimatorOptions(args, options);
   options.memoryBudget = memoryBudget(args);
   options.gateCutoff = !args.has("--no-gate-cutoff");
   std::filesystem::path exr = outputPath(args, "render");

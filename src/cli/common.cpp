@@ -23,7 +23,8 @@ std::vector<OptionSpec> sceneOverrideOptions() {
           {"--seed", "N", "random seed (renders are reproducible from it)"},
           {"--max-depth", "N", "maximum path vertices after the camera"},
           {"--resolution", "WxH", "image size (perspective cameras)"},
-          {"--nee", "MODE", "auto | standard | ellipsoidal | mis (default: the planner's choice)"}};
+          {"--nee", "MODE", "auto | standard | ellipsoidal | mis (default: the planner's choice)"},
+          {"--ellipsoid-selection", "HOW", "auto | descend | enumerate: how ellipsoidal connections choose a triangle (default: the planner's choice)"}};
 }
 
 std::unique_ptr<VulkanContext> makeContext(const ParsedArgs& args) {
@@ -46,6 +47,16 @@ NeeMode parseNeeMode(const std::string& text) {
   if (text == "ellipsoidal") return NeeMode::Ellipsoidal;
   if (text == "mis") return NeeMode::Mis;
   throw UsageError("--nee: '" + text + "' is not one of auto, standard, ellipsoidal, mis");
+}
+
+void applyEstimatorOptions(const ParsedArgs& args, RenderOptions& options) {
+  if (auto nee = args.get("--nee")) options.nee = parseNeeMode(*nee);
+  if (auto how = args.get("--ellipsoid-selection")) {
+    if (*how == "auto") options.ellipsoidSelection = EllipsoidSelection::Auto;
+    else if (*how == "descend") options.ellipsoidSelection = EllipsoidSelection::Descend;
+    else if (*how == "enumerate") options.ellipsoidSelection = EllipsoidSelection::Enumerate;
+    else throw UsageError("--ellipsoid-selection: '" + *how + "' is not one of auto, descend, enumerate");
+  }
 }
 
 uint64_t memoryBudget(const ParsedArgs& args) {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cli/args.h"
+#include "host/renderer.h"
 #include "host/vk_context.h"
 #include "vktg/scene.h"
 
@@ -25,6 +26,8 @@ int finishWithValidationCheck(VulkanContext& context, int status);
 // --spp, --seed, --max-depth, --resolution applied.
 Scene loadSceneWithOverrides(const ParsedArgs& args, bool allowDefault);
 NeeMode parseNeeMode(const std::string& text);
+// --nee and --ellipsoid-selection (sceneOverrideOptions) into `options`.
+void applyEstimatorOptions(const ParsedArgs& args, RenderOptions& options);
 uint64_t memoryBudget(const ParsedArgs& args);
 
 // Progress on stderr: a bar on a terminal, a few plain lines otherwise, nothing with --quiet.

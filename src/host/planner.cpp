@@ -26,7 +26,17 @@ const char* neeModeName(NeeMode mode) {
   return "?";
 }
 
-RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, NeeMode requested) {
+const char* ellipsoidSelectionName(EllipsoidSelection selection) {
+  switch (selection) {
+    case EllipsoidSelection::Auto: return "auto";
+    case EllipsoidSelection::Descend: return "descend";
+    case EllipsoidSelection::Enumerate: return "enumerate";
+  }
+  return "?";
+}
+
+RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, NeeMode requested,
+                      EllipsoidSelection selection) {
   RenderPlan plan;
   const Gate& gate = setup.gate;
   plan.layers = gate.layers();
@@ -60,6 +70,18 @@ RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, N
   plan.nee = mode;
   if (mode == NeeMode::Mis)
     plan.reasons.push_back("mis: paths long enough for an ellipsoidal connection get both it and standard NEE, weighted by the power heuristic");
+  if (mode == NeeMode::Ellipsoidal || mode == NeeMode::Mis) {
+    const size_t triangles = prepared.triangles.size();
+    if (selection == EllipsoidSelection::Auto) {
+      selection = EllipsoidSelection::Descend;
+      plan.reasons.push_back(format("ellipsoidal connections choose their triangle by a stochastic BVH descent: cost grows with the tree's depth, not with the %.0f triangles", double(triangles)));
+    } else {
+      plan.reasons.push_back(std::string("ellipsoidal connections choose their triangle by ") +
+                             (selection == EllipsoidSelection::Descend ? "a stochastic BVH descent" : "enumerating every triangle the shell meets") +
+                             ": requested");
+    }
+    plan.ellipsoidSelection = selection;
+  }
   if (mode == NeeMode::Ellipsoidal || mode == NeeMode::Mis)
     plan.reasons.push_back(plan.firstEllipsoidVertex == 0
                                ? "point sensor: ellipsoidal connections start at the sensor; direct light uses standard NEE"

@@ -20,8 +20,16 @@ struct RenderSetup {
   static RenderSetup of(const Scene& scene) { return {scene.camera, scene.gate, scene.render, scene.source.string()}; }
 };
 
+// How an ellipsoidal connection chooses the triangle it lands on (shaders/lib/ellipsoid.glsl).
+enum class EllipsoidSelection : uint32_t {
+  Auto,       // the planner's choice
+  Descend,    // stochastic BVH descent: cost logarithmic in the triangle count
+  Enumerate,  // every triangle the shell meets, by arc length: the reference
+};
+
 struct RenderPlan {
   NeeMode nee = NeeMode::Standard;    // Standard or Ellipsoidal after planning
+  EllipsoidSelection ellipsoidSelection = EllipsoidSelection::Descend;  // Descend or Enumerate after planning
   uint32_t firstEllipsoidVertex = 1;  // 0 at a point sensor, 1 behind a pinhole
   uint32_t layers = 1;
   double gateWidth = 0;               // metres
@@ -37,10 +45,12 @@ inline constexpr double kEllipsoidalGateFraction = 0.05;
 // first hit behind a pinhole (whose pixel fixes it).
 inline uint32_t firstEllipsoidVertex(CameraType camera) { return camera == CameraType::PointSensor ? 0 : 1; }
 
-// `requested` overrides the scene's setting unless Auto. Throws vktg::Error for impossible
-// requests (ellipsoidal NEE with a steady gate).
-RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, NeeMode requested);
+// `requested` and `selection` override the scene's setting and the planner's choice unless Auto.
+// Throws vktg::Error for impossible requests (ellipsoidal NEE with a steady gate).
+RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, NeeMode requested,
+                      EllipsoidSelection selection = EllipsoidSelection::Auto);
 std::string explainPlan(const RenderPlan& plan);
 const char* neeModeName(NeeMode mode);
+const char* ellipsoidSelectionName(EllipsoidSelection selection);
 
 }  // namespace vktg

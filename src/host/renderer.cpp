@@ -133,7 +133,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   const PreparedScene& prepared = deviceScene.prepared();
   const GpuScene& gpuScene = deviceScene.gpu();
   RenderResult result;
-  result.plan = planRender(setup, prepared, options.nee);
+  result.plan = planRender(setup, prepared, options.nee, options.ellipsoidSelection);
   const RenderPlan& plan = result.plan;
   const RenderSettings& settings = setup.settings;
 
@@ -283,6 +283,8 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   spec[gpu::kSpecTerm] = options.pathLengthBoundary ? gpu::kTermPathLength : gpu::kTermInterior;
   spec[gpu::kSpecAntithetic] = options.antithetic ? 1u : 0u;
   spec[gpu::kSpecAdjointTargets] = adjoint ? adjoint->targets : 0u;
+  spec[gpu::kSpecEllipsoidSelection] =
+      plan.ellipsoidSelection == EllipsoidSelection::Enumerate ? gpu::kEllipsoidEnumerate : gpu::kEllipsoidDescend;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";

@@ -31,6 +31,7 @@ struct AdjointTarget {
 
 struct RenderOptions {
   NeeMode nee = NeeMode::Auto;              // overrides the scene's render.nee unless Auto
+  EllipsoidSelection ellipsoidSelection = EllipsoidSelection::Auto;  // overrides the planner's unless Auto
   uint64_t memoryBudget = 512ull << 20;     // bytes for wavefront state + film (`--mem`)
   bool gateCutoff = true;                   // end paths whose length passed the gate (bench compares)
   std::function<void(double)> progress;     // fraction done, after every batch

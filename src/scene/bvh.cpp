@@ -157,7 +157,7 @@ class Builder {
     if (n == 0) {
       // An interior node whose children are empty boxes: every ray misses, the loop terminates.
       Box empty;
-      setInterior(0, 0, empty, 0, empty);
+      setInterior(0, 0, empty, 0, empty, 0);
     } else {
       std::vector<BuildItem> stack{{0, 0, n, 0}};
       while (!stack.empty()) {
@@ -180,12 +180,14 @@ class Builder {
     out.rightMaxFirst = glm::vec4(0.0f, 0.0f, 0.0f, std::bit_cast<float>(first));
   }
 
-  void setInterior(uint32_t node, uint32_t left, const Box& leftBox, uint32_t right, const Box& rightBox) {
+  // `rightFirst`: where the right subtree's triangles begin in leaf order.
+  void setInterior(uint32_t node, uint32_t left, const Box& leftBox, uint32_t right, const Box& rightBox,
+                   uint32_t rightFirst) {
     gpu::GpuBvhNode& out = m_nodes[node];
     out.leftMinLeftIndex = glm::vec4(leftBox.lo, std::bit_cast<float>(left));
     out.leftMaxRightIndex = glm::vec4(leftBox.hi, std::bit_cast<float>(right));
     out.rightMinCount = glm::vec4(rightBox.lo, std::bit_cast<float>(0u));
-    out.rightMaxFirst = glm::vec4(rightBox.hi, std::bit_cast<float>(0u));
+    out.rightMaxFirst = glm::vec4(rightBox.hi, std::bit_cast<float>(rightFirst));
   }
 
   void process(const BuildItem& item, std::vector<BuildItem>& stack) {
@@ -228,7 +230,7 @@ class Builder {
     uint32_t left = static_cast<uint32_t>(m_nodes.size());
     m_nodes.emplace_back();
     m_nodes.emplace_back();
-    setInterior(item.node, left, split.left, left + 1, split.right);
+    setInterior(item.node, left, split.left, left + 1, split.right, mid);
     // Right pushed first so the left subtree is built (and laid out) first.
     stack.push_back({left + 1, mid, item.end, item.depth + 1});
     stack.push_back({left, item.begin, mid, item.depth + 1});

@@ -3,6 +3,7 @@
 #include "support/ellipsoid_reference.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 
@@ -193,6 +194,57 @@ double ellipsoidDensityRef(std::span<const RefTriangle> triangles, dvec3 f1, dve
   }
   if (!found || !(sum > 0.0)) return 0.0;
   return (target.weight / sum) / (target.total * ellipseCoareaRatioRef(target, f1, f2, x));
+}
+
+double ellipsoidBoxImportanceRef(dvec3 lo, dvec3 hi, dvec3 f1, dvec3 f2, double sPrime) {
+  double lower = glm::length(glm::max(glm::max(lo - f1, f1 - hi), dvec3(0.0))) +
+                 glm::length(glm::max(glm::max(lo - f2, f2 - hi), dvec3(0.0)));
+  double upper = 0.0;
+  for (int i = 0; i < 8; ++i) {
+    dvec3 q((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    upper = std::max(upper, glm::length(q - f1) + glm::length(q - f2));
+  }
+  if (!(lower * (1.0 - 1e-6) <= sPrime && sPrime <= upper * (1.0 + 1e-6))) return 0.0;
+  double span = upper - lower;
+  double tent = span > 0.0 ? std::clamp(2.0 * std::min(sPrime - lower, upper - sPrime) / span, 0.0, 1.0) : 1.0;
+  const double floor = 0.02;  // kEllipsoidTentFloor in the shader
+  return std::max(glm::length(hi - lo), 1e-30) * (floor + tent);
+}
+
+double ellipsoidDescentProbabilityRef(const Bvh& bvh, std::span<const RefTriangle> triangles, dvec3 f1, dvec3 f2,
+                                      double sPrime, size_t tri) {
+  auto word = [](float f) { return std::bit_cast<uint32_t>(f); };
+  double probability = 1.0;
+  uint32_t index = 0;
+  for (size_t level = 0; level < bvh.nodes.size(); ++level) {
+    const gpu::GpuBvhNode& n = bvh.nodes[index];
+    uint32_t count = word(n.rightMinCount.w), first = word(n.rightMaxFirst.w);
+    if (count > 0) {
+      double sum = 0.0, target = 0.0;
+      for (uint32_t i = first; i < first + count; ++i) {
+        EllipseArcsRef arcs;
+        if (!ellipseOnTriangleRef(f1, f2, sPrime, triangles[i], arcs)) continue;
+        sum += arcs.weight;
+        if (i == tri) target = arcs.weight;
+      }
+      return sum > 0.0 ? probability * target / sum : 0.0;
+    }
+    double left = ellipsoidBoxImportanceRef(dvec3(n.leftMinLeftIndex), dvec3(n.leftMaxRightIndex), f1, f2, sPrime);
+    double right = ellipsoidBoxImportanceRef(dvec3(n.rightMinCount), dvec3(n.rightMaxFirst), f1, f2, sPrime);
+    bool goRight = tri >= first;
+    if (!(left + right > 0.0)) return 0.0;
+    probability *= (goRight ? right : left) / (left + right);
+    index = word(goRight ? n.leftMaxRightIndex.w : n.leftMinLeftIndex.w);
+  }
+  return 0.0;
+}
+
+double ellipsoidDescentDensityRef(const Bvh& bvh, std::span<const RefTriangle> triangles, dvec3 f1, dvec3 f2,
+                                  double sPrime, size_t tri, dvec3 x) {
+  EllipseArcsRef arcs;
+  if (!ellipseOnTriangleRef(f1, f2, sPrime, triangles[tri], arcs)) return 0.0;
+  double p = ellipsoidDescentProbabilityRef(bvh, triangles, f1, f2, sPrime, tri);
+  return p > 0.0 ? p / (arcs.total * ellipseCoareaRatioRef(arcs, f1, f2, x)) : 0.0;
 }
 
 bool sampleEllipsoidRef(std::span<const RefTriangle> triangles, dvec3 f1, dvec3 f2, double sPrime, double uPick,

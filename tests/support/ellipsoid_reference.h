@@ -11,6 +11,8 @@
 
 #include <glm/glm.hpp>
 
+#include "vktg/bvh.h"
+
 namespace vktg::test {
 
 using dvec2 = glm::dvec2;
@@ -51,6 +53,16 @@ double pathLengthRef(dvec3 f1, dvec3 f2, dvec3 x);
 // 1 / weight of a sample at x on triangles[tri] (pdf_l * |P_T grad L|), 0 where none.
 double ellipsoidDensityRef(std::span<const RefTriangle> triangles, dvec3 f1, dvec3 f2, double sPrime, size_t tri,
                            dvec3 x);
+
+// The stochastic BVH descent (kEllipsoidDescend): probability that it picks triangles[tri], with
+// `triangles` in the leaf order of `bvh` (the host builder's tree the GPU gets). 0 where it cannot.
+double ellipsoidDescentProbabilityRef(const Bvh& bvh, std::span<const RefTriangle> triangles, dvec3 f1, dvec3 f2,
+                                      double sPrime, size_t tri);
+// The shader's per-box descent weight (ellipsoidBoxImportance), in double precision.
+double ellipsoidBoxImportanceRef(dvec3 lo, dvec3 hi, dvec3 f1, dvec3 f2, double sPrime);
+// 1 / weight of a descent sample at x on triangles[tri], 0 where none.
+double ellipsoidDescentDensityRef(const Bvh& bvh, std::span<const RefTriangle> triangles, dvec3 f1, dvec3 f2,
+                                  double sPrime, size_t tri, dvec3 x);
 
 struct EllipsoidSampleRef {
   size_t triangle = 0;

@@ -10,7 +10,8 @@
 namespace vktg::test {
 
 std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vector<uint32_t>& input,
-                                     size_t outputWords, uint32_t invocations, const Scene* scene) {
+                                     size_t outputWords, uint32_t invocations, const Scene* scene,
+                                     uint32_t ellipsoidSelection) {
   VulkanContext& context = testContext();
   PassPipelines pipelines(context, kTestShaderRegistry);
   Buffer dummy(context, 256, MemoryKind::Device, "test.dummy");
@@ -42,6 +43,7 @@ std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vecto
   SpecValues spec{};
   spec[gpu::kSpecMaterialMask] = 7;
   spec[gpu::kSpecLightMask] = 3;
+  spec[gpu::kSpecEllipsoidSelection] = ellipsoidSelection;
   if (scene) {
     spec[gpu::kSpecGateType] = uint32_t(scene->gate.type);
     spec[gpu::kSpecCameraType] = uint32_t(scene->camera.type);

@@ -17,18 +17,21 @@
 namespace vktg::test {
 
 // Raw form: input/output as 32-bit words. `scene` (optional) is uploaded and bound like in a
-// render (triangles, BVH, lights, frame uniforms), so kernels can trace rays.
+// render (triangles, BVH, lights, frame uniforms), so kernels can trace rays. `ellipsoidSelection`
+// specialises kSpecEllipsoidSelection (kEllipsoidDescend / kEllipsoidEnumerate).
 std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vector<uint32_t>& input,
-                                     size_t outputWords, uint32_t invocations, const Scene* scene = nullptr);
+                                     size_t outputWords, uint32_t invocations, const Scene* scene = nullptr,
+                                     uint32_t ellipsoidSelection = gpu::kEllipsoidDescend);
 
 // Typed convenience: In and Out are trivially copyable structs of 32-bit fields.
 template <class Out, class In>
 std::vector<Out> runKernel(const std::string& kernel, const std::vector<In>& input, size_t outputCount,
-                           uint32_t invocations, const Scene* scene = nullptr) {
+                           uint32_t invocations, const Scene* scene = nullptr,
+                           uint32_t ellipsoidSelection = gpu::kEllipsoidDescend) {
   static_assert(sizeof(In) % 4 == 0 && sizeof(Out) % 4 == 0);
   std::vector<uint32_t> words(input.size() * sizeof(In) / 4);
   if (!input.empty()) std::memcpy(words.data(), input.data(), input.size() * sizeof(In));
-  std::vector<uint32_t> raw = runKernelWords(kernel, words, outputCount * sizeof(Out) / 4, invocations, scene);
+  std::vector<uint32_t> raw = runKernelWords(kernel, words, outputCount * sizeof(Out) / 4, invocations, scene, ellipsoidSelection);
   std::vector<Out> out(outputCount);
   std::memcpy(out.data(), raw.data(), outputCount * sizeof(Out));
   return out;

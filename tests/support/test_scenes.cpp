@@ -14,6 +14,26 @@ void addQuad(Shape& shape, glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p
   shape.triangles.push_back({base, base + 2, base + 3});
 }
 
+void subdivideShape(Shape& shape, uint32_t levels) {
+  for (uint32_t level = 0; level < levels; ++level) {
+    std::vector<glm::uvec3> finer;
+    finer.reserve(4 * shape.triangles.size());
+    for (const glm::uvec3& t : shape.triangles) {
+      uint32_t m[3];
+      for (int e = 0; e < 3; ++e) {
+        // Midpoints are not shared between neighbours: the surface is unchanged either way.
+        m[e] = uint32_t(shape.positions.size());
+        shape.positions.push_back(0.5f * (shape.positions[t[e]] + shape.positions[t[(e + 1) % 3]]));
+      }
+      finer.push_back({t[0], m[0], m[2]});
+      finer.push_back({m[0], t[1], m[1]});
+      finer.push_back({m[2], m[1], t[2]});
+      finer.push_back({m[0], m[1], m[2]});
+    }
+    shape.triangles = std::move(finer);
+  }
+}
+
 namespace {
 
 Shape planeShape(double halfX, double halfY, uint32_t material) {

@@ -14,6 +14,10 @@ namespace vktg::test {
 // front face (the emitting side) is normalize(cross(p1 - p0, p2 - p0)).
 void addQuad(Shape& shape, glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p3);
 
+// Splits every triangle of `shape` into four at its edge midpoints, `levels` times (4^levels times
+// the triangles, the same surface): scenes whose tessellation, not geometry, grows.
+void subdivideShape(Shape& shape, uint32_t levels);
+
 // A perspective camera at `position` looking at `lookAt` (up +y), vertical field of view fovY
 // degrees, resolution x resolution pixels.
 Camera pinholeCamera(glm::vec3 position, glm::vec3 lookAt, float fovY, uint32_t resolution);

@@ -153,7 +153,12 @@ VKTG_CONST(uint, kSpecLanes, 5);          // derivative lanes K per path (deriva
 VKTG_CONST(uint, kSpecTerm, 6);           // kTermInterior / kTermPathLength (derivative variants only)
 VKTG_CONST(uint, kSpecAntithetic, 7);     // 1: ellipsoidal connections in antithetic pairs s, 2 mu - s
 VKTG_CONST(uint, kSpecAdjointTargets, 8); // adjoint variants: kAdjoint* bits, what the gradient is taken of
-VKTG_CONST(uint, kSpecCount, 9);
+VKTG_CONST(uint, kSpecEllipsoidSelection, 9);  // kEllipsoidDescend / kEllipsoidEnumerate
+VKTG_CONST(uint, kSpecCount, 10);
+
+// How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
+VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
+VKTG_CONST(uint, kEllipsoidEnumerate, 1);  // every triangle the shell meets, by arc length
 
 // What an adjoint render differentiates (kSpecAdjointTargets): only these get gradients computed.
 VKTG_CONST(uint, kAdjointVertices, 1);    // positions of vertices of shapes with kShapeMoves
@@ -188,12 +193,14 @@ struct GpuTriangle {
 };
 
 // Two-wide BVH node holding both children's boxes (one fetch tests both). A node with
-// count > 0 is a leaf covering triangles [first, first + count); its boxes are unused.
+// count > 0 is a leaf covering triangles [first, first + count); its boxes are unused. An
+// interior node's subtrees cover contiguous ranges of leaf order; its `first` is where the right
+// subtree's range begins (an ellipsoidal connection's density walks to one triangle with it).
 struct GpuBvhNode {
   vec4 leftMinLeftIndex;    // xyz: left child box min, w: left child node index (uint bits)
   vec4 leftMaxRightIndex;   // xyz: left child box max, w: right child node index (uint bits)
   vec4 rightMinCount;       // xyz: right child box min, w: leaf triangle count (uint bits)
-  vec4 rightMaxFirst;       // xyz: right child box max, w: leaf first triangle (uint bits)
+  vec4 rightMaxFirst;       // xyz: right child box max, w: first triangle of the leaf / right subtree (uint bits)
 };
 
 VKTG_CONST(uint, kShapeMoves, 1);  // GpuShape.flags: some optimised parameter moves its vertices

@@ -1,0 +1,138 @@
+#include "host/bench_nee.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "host/device_scene.h"
+#include "host/renderer.h"
+#include "scene/primitives.h"
+#include "vktg/image_io.h"
+
+namespace vktg {
+namespace {
+
+// The default room, its two boxes replaced by an n x n heightfield of smooth bumps (up to ~0.2 m)
+// covering the floor, under a gaussian gate at 7 m, sigma / mu = 1e-2: two- and three-bounce paths.
+Scene tessellatedRoom(uint32_t n, uint32_t resolution) {
+  Scene scene = defaultScene();
+  std::erase_if(scene.shapes, [](const Shape& s) { return s.name == "short_box" || s.name == "tall_box"; });
+  std::vector<float> heights(size_t(n) * n);
+  for (uint32_t j = 0; j < n; ++j)
+    for (uint32_t i = 0; i < n; ++i) {
+      const double x = double(i) / (n - 1), z = double(j) / (n - 1);
+      heights[size_t(j) * n + i] =
+          float(0.1 + 0.08 * std::sin(9.0 * x) * std::cos(7.0 * z) + 0.03 * std::sin(31.0 * x * z));
+    }
+  TriangleMesh mesh = makeHeightfield(n, n, 1.8f, 1.8f, heights);
+  Shape shape;
+  shape.name = "terrain";
+  shape.material = 2;  // white
+  shape.positions = std::move(mesh.positions);
+  shape.triangles = std::move(mesh.triangles);
+  shape.grid = {n, n};
+  scene.shapes.push_back(std::move(shape));
+  scene.camera.width = scene.camera.height = resolution;
+  scene.gate = gaussianGate(7.0, 0.07);
+  return scene;
+}
+
+struct Estimator {
+  const char* name;
+  NeeMode nee;
+  EllipsoidSelection selection;
+};
+
+}  // namespace
+
+BenchNeeReport benchNee(VulkanContext& context, const BenchNeeOptions& options) {
+  BenchNeeReport report;
+  report.device = context.report().name;
+  auto log = [&](const std::string& line) {
+    if (options.log) options.log(line);
+  };
+  const uint32_t resolution = std::max(8u, uint32_t(std::lround(options.resolution * std::sqrt(options.scale))));
+  const double budget = options.secondsPerPoint * options.scale;
+  const Estimator estimators[] = {{"standard", NeeMode::Standard, EllipsoidSelection::Auto},
+                                  {"ellipsoidal (descend)", NeeMode::Ellipsoidal, EllipsoidSelection::Descend},
+                                  {"ellipsoidal (enumerate)", NeeMode::Ellipsoidal, EllipsoidSelection::Enumerate}};
+  Renderer renderer(context);
+  for (uint32_t n : options.sizes) {
+    const Scene scene = tessellatedRoom(n, resolution);
+    const uint64_t triangles = scene.triangleCount();
+    log("room with a " + std::to_string(n) + "x" + std::to_string(n) + " heightfield: " + std::to_string(triangles) +
+        " triangles");
+    DeviceScene device(context, scene);
+    RenderSetup setup = RenderSetup::of(scene);
+    for (const Estimator& e : estimators) {
+      if (e.selection == EllipsoidSelection::Enumerate && triangles > options.enumerateMaxTriangles) continue;
+      RenderOptions ro;
+      ro.nee = e.nee;
+      ro.ellipsoidSelection = e.selection;
+      ro.memoryBudget = options.memoryBudget;
+      // A pilot of one sample per pixel (it also builds the pipelines), then enough samples to
+      // fill the time budget.
+      setup.settings.spp = 1;
+      RenderResult pilot = renderer.render(device, setup, ro);
+      const double perPath = pilot.stats.seconds / double(std::max<uint64_t>(pilot.stats.paths, 1));
+      const double pixels = double(resolution) * resolution;
+      const double wanted = std::max(budget / perPath, double(options.minPaths));
+      setup.settings.spp = uint32_t(std::clamp(std::ceil(wanted / pixels), 1.0, double(1u << 20)));
+      std::vector<double> costs, rays;
+      BenchNeeRow row;
+      for (uint32_t run = 0; run < options.runs; ++run) {
+        setup.settings.seed = run + 1;
+        RenderResult r = renderer.render(device, setup, ro);
+        costs.push_back(r.stats.seconds / double(r.stats.paths));
+        rays.push_back(double(r.stats.extensionRays + r.stats.shadowRays) / r.stats.seconds);
+        row.emptyFraction = r.stats.ellipsoidQueries > 0 ? double(r.stats.ellipsoidEmpty) / r.stats.ellipsoidQueries : 0.0;
+        double sum = 0.0;
+        for (float v : r.mean.layers[0].pixels) sum += v;
+        row.imageMean = sum / pixels;
+      }
+      row.size = n;
+      row.triangles = triangles;
+      row.estimator = e.name;
+      row.secondsPerPath = median(costs);
+      row.raysPerSecond = median(rays);
+      char line[256];
+      std::snprintf(line, sizeof line, "  %-24s %u spp: %.3g s per path (%.3g paths/s), %.3g rays/s, image mean %.4g",
+                    e.name, setup.settings.spp, row.secondsPerPath, 1.0 / row.secondsPerPath, row.raysPerSecond,
+                    row.imageMean);
+      log(line);
+      report.rows.push_back(row);
+    }
+  }
+  return report;
+}
+
+void writeBenchNeeReport(const BenchNeeReport& report, const BenchNeeOptions& options, const std::string& command) {
+  std::ostringstream csv;
+  csv << "size,triangles,estimator,seconds_per_path,rays_per_second,empty_fraction,image_mean\n";
+  for (const BenchNeeRow& r : report.rows)
+    csv << r.size << "," << r.triangles << ",\"" << r.estimator << "\"," << r.secondsPerPath << "," << r.raysPerSecond
+        << "," << r.emptyFraction << "," << r.imageMean << "\n";
+  std::filesystem::create_directories(options.outDir);
+  writeFileAtomic(options.outDir / "bench.csv", csv.str());
+
+  std::ostringstream md;
+  md << "Command: `" << command << "`  \nDevice: " << report.device << "  \nMedians of " << options.runs
+     << " runs, each rendering until its time budget. Cost per path relative to standard NEE on the same scene.\n\n"
+     << "| triangles | estimator | paths/s | cost / standard | rays/s | empty connections | image mean |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  char cell[256];
+  for (const BenchNeeRow& r : report.rows) {
+    double standard = 0.0;
+    for (const BenchNeeRow& s : report.rows)
+      if (s.size == r.size && s.estimator == "standard") standard = s.secondsPerPath;
+    std::snprintf(cell, sizeof cell, "| %llu | %s | %.3g | %.2fx | %.3g | %.1f%% | %.4g |\n",
+                  (unsigned long long)r.triangles, r.estimator.c_str(), 1.0 / r.secondsPerPath,
+                  standard > 0 ? r.secondsPerPath / standard : std::nan(""), r.raysPerSecond, 100.0 * r.emptyFraction,
+                  r.imageMean);
+    md << cell;
+  }
+  writeFileAtomic(options.outDir / "table.md", md.str());
+}
+
+}  // namespace vktg
