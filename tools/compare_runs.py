@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Draws the parameter error and the loss of several `vktg optimize` runs against the iteration,
-one line per run, side by side on log axes.
+and the parameter error against the run's wall time (runs compared at equal time), one line per
+run, side by side on log axes.
 Usage: compare_runs.py OUT.png LABEL=RUN_DIR [LABEL=RUN_DIR ...]"""
 import csv
 import sys
@@ -18,7 +19,7 @@ def columns(log_path):
 
 
 def main(out, runs):
-    fig, (error_axis, loss_axis) = plt.subplots(1, 2, figsize=(11, 4))
+    fig, (error_axis, loss_axis, time_axis) = plt.subplots(1, 3, figsize=(16, 4))
     for run in runs:
         label, _, directory = run.partition("=")
         log = columns(f"{directory}/log.csv")
@@ -26,10 +27,16 @@ def main(out, runs):
             continue
         if "parameter_error" in log:
             error_axis.plot(log["iteration"], log["parameter_error"], label=label)
+            elapsed, total = [], 0.0
+            for seconds in log["seconds"]:
+                total += seconds
+                elapsed.append(total)
+            time_axis.plot(elapsed, log["parameter_error"], label=label)
         loss_axis.plot(log["iteration"], [v / log["loss"][0] for v in log["loss"]], label=label)
     error_axis.set(yscale="log", xlabel="iteration", ylabel="parameter error (RMS of θ − truth)")
     loss_axis.set(yscale="log", xlabel="iteration", ylabel="loss / initial loss")
-    for axis in (error_axis, loss_axis):
+    time_axis.set(yscale="log", xlabel="seconds (wall time of the iterations)", ylabel="parameter error")
+    for axis in (error_axis, loss_axis, time_axis):
         axis.grid(True, which="both", alpha=0.3)
         axis.legend()
     fig.tight_layout()
