@@ -9,20 +9,15 @@
 #include <numbers>
 #include <random>
 
+#include "support/ellipsoid_kernel.h"
 #include "support/ellipsoid_reference.h"
 #include "support/gpu_test.h"
 
 namespace vktg::test {
 namespace {
 
-struct SampleIn {
-  float f1[3], f2[3], s, u[4], pad;
-};
-struct SampleOut {
-  uint32_t ok, triangle;
-  float position[3], bary[2], weight, density, p0[3], p1[3], p2[3], pad[2];
-};
-static_assert(sizeof(SampleIn) == 48 && sizeof(SampleOut) == 80);
+using SampleIn = EllipsoidSampleIn;
+using SampleOut = EllipsoidSampleOut;
 
 constexpr double kPi = std::numbers::pi;
 // A weight is assembled from ~100 float32 operations: allow a few hundred ulps of relative error.
@@ -33,23 +28,7 @@ std::vector<RefTriangle> square(double h) {
   return {{{-h, -h, 0}, {h, -h, 0}, {h, h, 0}}, {{-h, -h, 0}, {h, h, 0}, {-h, h, 0}}};
 }
 
-Scene makeScene(const std::vector<RefTriangle>& tris) {
-  Scene scene;
-  scene.materials.push_back({});
-  Shape shape;
-  shape.name = "surface";
-  for (const RefTriangle& t : tris) {
-    uint32_t base = uint32_t(shape.positions.size());
-    shape.positions.push_back(glm::vec3(t.p0));
-    shape.positions.push_back(glm::vec3(t.p1));
-    shape.positions.push_back(glm::vec3(t.p2));
-    shape.triangles.push_back({base, base + 1, base + 2});
-  }
-  scene.shapes.push_back(shape);
-  // The scene loader wants a light; a point light adds no triangles, so the surfaces are unchanged.
-  scene.pointLights.push_back({"light", glm::vec3(0.0f, 0.0f, 50.0f), 1.0f});
-  return scene;
-}
+Scene makeScene(const std::vector<RefTriangle>& tris) { return sceneOfShapes({shapeOfTriangles("surface", tris)}); }
 
 struct SampleRun {
   std::vector<SampleOut> out;

@@ -18,6 +18,7 @@
 #include <random>
 
 #include "support/chi2.h"
+#include "support/ellipsoid_kernel.h"
 #include "support/ellipsoid_reference.h"
 #include "support/gpu_test.h"
 #include "support/test_scenes.h"
@@ -26,14 +27,8 @@
 namespace vktg::test {
 namespace {
 
-struct SampleIn {
-  float f1[3], f2[3], s, u[4], pad;
-};
-struct SampleOut {
-  uint32_t ok, triangle;
-  float position[3], bary[2], weight, density, p0[3], p1[3], p2[3], pad[2];
-};
-static_assert(sizeof(SampleIn) == 48 && sizeof(SampleOut) == 80);
+using SampleIn = EllipsoidSampleIn;
+using SampleOut = EllipsoidSampleOut;
 
 const dvec3 kF1(-0.3, 0.2, 1.5);
 const dvec3 kF2(0.4, -0.1, 1.2);
@@ -47,25 +42,10 @@ std::vector<RefTriangle> coarseTriangles() {
 // The coarse surfaces as two shapes, each triangle split `levels` times.
 Scene tessellatedScene(uint32_t levels) {
   std::vector<RefTriangle> tris = coarseTriangles();
-  Scene scene;
-  scene.materials.push_back({});
-  Shape plane, tilted;
-  plane.name = "plane";
-  tilted.name = "tilted";
-  for (size_t t = 0; t < tris.size(); ++t) {
-    Shape& shape = t < 2 ? plane : tilted;
-    uint32_t base = uint32_t(shape.positions.size());
-    shape.positions.push_back(glm::vec3(tris[t].p0));
-    shape.positions.push_back(glm::vec3(tris[t].p1));
-    shape.positions.push_back(glm::vec3(tris[t].p2));
-    shape.triangles.push_back({base, base + 1, base + 2});
-  }
+  Shape plane = shapeOfTriangles("plane", {tris[0], tris[1]}), tilted = shapeOfTriangles("tilted", {tris[2]});
   subdivideShape(plane, levels);
   subdivideShape(tilted, levels);
-  scene.shapes = {plane, tilted};
-  // The scene loader wants a light; a point light adds no triangles, so the surfaces are unchanged.
-  scene.pointLights.push_back({"light", glm::vec3(0.0f, 0.0f, 50.0f), 1.0f});
-  return scene;
+  return sceneOfShapes({plane, tilted});
 }
 
 // The triangles the GPU sees, in leaf order, with the tree it descends.

@@ -1,0 +1,26 @@
+#include "support/ellipsoid_kernel.h"
+
+namespace vktg::test {
+
+Shape shapeOfTriangles(const std::string& name, const std::vector<RefTriangle>& triangles) {
+  Shape shape;
+  shape.name = name;
+  for (const RefTriangle& t : triangles) {
+    const uint32_t base = uint32_t(shape.positions.size());
+    shape.positions.push_back(glm::vec3(t.p0));
+    shape.positions.push_back(glm::vec3(t.p1));
+    shape.positions.push_back(glm::vec3(t.p2));
+    shape.triangles.push_back({base, base + 1, base + 2});
+  }
+  return shape;
+}
+
+Scene sceneOfShapes(std::vector<Shape> shapes) {
+  Scene scene;
+  scene.materials.push_back({});
+  scene.shapes = std::move(shapes);
+  scene.pointLights.push_back({"light", glm::vec3(0.0f, 0.0f, 50.0f), 1.0f});
+  return scene;
+}
+
+}  // namespace vktg::test

@@ -1,0 +1,30 @@
+// What the tests of ellipsoidal connections share: the layout of tests/shaders/ellipsoid_sample.comp
+// and scenes made of given triangles.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "support/ellipsoid_reference.h"
+#include "vktg/scene.h"
+
+namespace vktg::test {
+
+// One invocation of ellipsoid_sample: foci, s', the four uniforms.
+struct EllipsoidSampleIn {
+  float f1[3], f2[3], s, u[4], pad;
+};
+// Its result: success, leaf-order triangle, point, barycentrics, weight, density at the point, and
+// the triangle's vertices.
+struct EllipsoidSampleOut {
+  uint32_t ok, triangle;
+  float position[3], bary[2], weight, density, p0[3], p1[3], p2[3], pad[2];
+};
+static_assert(sizeof(EllipsoidSampleIn) == 48 && sizeof(EllipsoidSampleOut) == 80);
+
+// A diffuse shape made of `triangles` (float positions), one vertex triple each.
+Shape shapeOfTriangles(const std::string& name, const std::vector<RefTriangle>& triangles);
+// A scene of these shapes with one material and a far point light (the scene loader wants a light;
+// a point light adds no triangles, so the surfaces are exactly the shapes).
+Scene sceneOfShapes(std::vector<Shape> shapes);
+
+}  // namespace vktg::test
