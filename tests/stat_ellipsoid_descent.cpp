@@ -30,14 +30,8 @@ namespace {
 using SampleIn = EllipsoidSampleIn;
 using SampleOut = EllipsoidSampleOut;
 
-const dvec3 kF1(-0.3, 0.2, 1.5);
-const dvec3 kF2(0.4, -0.1, 1.2);
-
-std::vector<RefTriangle> coarseTriangles() {
-  return {{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}},
-          {{-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}},
-          {{-0.5, -0.5, 0.3}, {0.8, -0.2, 0.6}, {0.0, 0.7, 1.0}}};
-}
+const dvec3 kF1 = kPlaneAndTiltedFocus1, kF2 = kPlaneAndTiltedFocus2;
+std::vector<RefTriangle> coarseTriangles() { return planeAndTiltedTriangles(); }
 
 // The coarse surfaces as two shapes, each triangle split `levels` times.
 Scene tessellatedScene(uint32_t levels) {

@@ -2,6 +2,12 @@
 
 namespace vktg::test {
 
+std::vector<RefTriangle> planeAndTiltedTriangles() {
+  return {{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}},
+          {{-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}},
+          {{-0.5, -0.5, 0.3}, {0.8, -0.2, 0.6}, {0.0, 0.7, 1.0}}};
+}
+
 Shape shapeOfTriangles(const std::string& name, const std::vector<RefTriangle>& triangles) {
   Shape shape;
   shape.name = name;

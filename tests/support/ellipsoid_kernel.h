@@ -21,6 +21,12 @@ struct EllipsoidSampleOut {
 };
 static_assert(sizeof(EllipsoidSampleIn) == 48 && sizeof(EllipsoidSampleOut) == 80);
 
+// The statistical tests' surfaces: a 2 m square plane at z = 0 (two triangles) and a tilted
+// triangle above it, with foci above both.
+std::vector<RefTriangle> planeAndTiltedTriangles();
+inline const dvec3 kPlaneAndTiltedFocus1{-0.3, 0.2, 1.5};
+inline const dvec3 kPlaneAndTiltedFocus2{0.4, -0.1, 1.2};
+
 // A diffuse shape made of `triangles` (float positions), one vertex triple each.
 Shape shapeOfTriangles(const std::string& name, const std::vector<RefTriangle>& triangles);
 // A scene of these shapes with one material and a far point light (the scene loader wants a light;
