@@ -79,23 +79,25 @@ BenchNeeReport benchNee(VulkanContext& context, const BenchNeeOptions& options) 
       const double pixels = double(resolution) * resolution;
       const double wanted = std::max(budget / perPath, double(options.minPaths));
       setup.settings.spp = uint32_t(std::clamp(std::ceil(wanted / pixels), 1.0, double(1u << 20)));
-      std::vector<double> costs, rays;
-      BenchNeeRow row;
+      std::vector<double> costs, rays, empty, means;
       for (uint32_t run = 0; run < options.runs; ++run) {
         setup.settings.seed = run + 1;
         RenderResult r = renderer.render(device, setup, ro);
         costs.push_back(r.stats.seconds / double(r.stats.paths));
         rays.push_back(double(r.stats.extensionRays + r.stats.shadowRays) / r.stats.seconds);
-        row.emptyFraction = r.stats.ellipsoidQueries > 0 ? double(r.stats.ellipsoidEmpty) / r.stats.ellipsoidQueries : 0.0;
+        empty.push_back(r.stats.ellipsoidQueries > 0 ? double(r.stats.ellipsoidEmpty) / r.stats.ellipsoidQueries : 0.0);
         double sum = 0.0;
         for (float v : r.mean.layers[0].pixels) sum += v;
-        row.imageMean = sum / pixels;
+        means.push_back(sum / pixels);
       }
+      BenchNeeRow row;
       row.size = n;
       row.triangles = triangles;
       row.estimator = e.name;
       row.secondsPerPath = median(costs);
       row.raysPerSecond = median(rays);
+      row.emptyFraction = median(empty);
+      row.imageMean = median(means);
       char line[256];
       std::snprintf(line, sizeof line, "  %-24s %u spp: %.3g s per path (%.3g paths/s), %.3g rays/s, image mean %.4g",
                     e.name, setup.settings.spp, row.secondsPerPath, 1.0 / row.secondsPerPath, row.raysPerSecond,
