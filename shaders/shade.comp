@@ -88,7 +88,7 @@ void main() {
   // connections queued below add theirs in trace_shadow_rays).
   vec2 emissionWeights = vec2(0.0);
 #endif
-  if (kSpecTermValue == kTermInterior && shape.emission > 0.0 && dot(sp.normal, wi) > 0.0 &&
+  if (kSpecTermValue != kTermPathLength && shape.emission > 0.0 && dot(sp.normal, wi) > 0.0 &&
       emitterHitCounts(depth, firstEllipsoid) && (ps.ids.w & kPathFlagNoArrivalEmission) == 0u) {
     // MIS against the standard NEE of the previous vertex, when that vertex did one (the
     // pinhole never does; the point sensor does). A hit an edge pass placed at the end of its

@@ -135,9 +135,10 @@ void traceConnection(uint slot) {
   uint pixel = paths[path].ids.x;
   if (pixel == kNoPixel) return;
   ShadowAdjoint sa = shadowAdjoint[slot];
-  // Path-length boundary: only the length moves the path across the jump (gate centre: -1).
-  vec2 weights = kSpecTermValue == kTermPathLength ? vec2(0.0, adjointJumpWeight(pixel, r.info.z))
-                                                   : adjointGateWeights(pixel, r.p1Length.w);
+  // Path-length boundary (a connection on a jump): only the length moves the path across the
+  // jump (gate centre: -1).
+  vec2 weights = r.info.z != kNoJump ? vec2(0.0, adjointJumpWeight(pixel, r.info.z))
+                                     : adjointGateWeights(pixel, r.p1Length.w);
   weights *= r.p0Value.w;
   if (isnan(weights.x) || isinf(weights.x) || isnan(weights.y) || isinf(weights.y)) {
     atomicAdd(counters[kCounterNonFinite], 1u);

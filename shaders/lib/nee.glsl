@@ -167,7 +167,7 @@ void standardNee(uint path, NeeVertex v, uint depth, vec3 u) {
     value *= powerHeuristic(pBsdf, pEll);
   }
   uint slot = queueShadowRay(path, v.depth, kConnectionStandard, v.position, ls.position, vec3(0.0), 1u, value, len,
-                             0xffffffffu);
+                             kNoJump);
 #ifdef VKTG_DERIVATIVE
   standardNeeDerivatives(slot, v, ls, value);
 #endif
@@ -192,12 +192,12 @@ void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllip
     // the symmetric gate gives both the same density, and W'(s) + W'(2 mu - s) = 0 cancels the
     // large derivative terms of a near-delta gate between the pair.
     float mirror = 2.0 * frame.gate.x - s;
-    if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 0.5, ls, uEllipsoid, 0xffffffffu, kConnectionEllipsoidal);
+    if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 0.5, ls, uEllipsoid, kNoJump, kConnectionEllipsoidal);
     if (invPdfS > 0.0)
-      ellipsoidalConnection(path, v, mirror, invPdfS, 0.5, ls, uEllipsoid, 0xffffffffu, kConnectionEllipsoidal + 1u);
+      ellipsoidalConnection(path, v, mirror, invPdfS, 0.5, ls, uEllipsoid, kNoJump, kConnectionEllipsoidal + 1u);
     return;
   }
-  if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 1.0, ls, uEllipsoid, 0xffffffffu, kConnectionEllipsoidal);
+  if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 1.0, ls, uEllipsoid, kNoJump, kConnectionEllipsoidal);
 }
 
 // Path-length boundary (THEORY.md §3): paths placed exactly on L = s_j by ellipsoidal
@@ -210,7 +210,7 @@ void pathLengthBoundaryConnection(uint path, NeeVertex v, float uJump, vec3 uLig
   float weight;
   uint n = gateBoundaryJumps(v.len + distance(v.position, ls.position), uJump, first, weight);
   for (uint j = first; j < first + n; ++j)
-    ellipsoidalConnection(path, v, gateJumpLocation(j), weight, 1.0, ls, uEllipsoid, j, kConnectionEllipsoidal + j - first);
+    ellipsoidalConnection(path, v, gateJumpLocation(j), weight, 1.0, ls, uEllipsoid, j, kConnectionBoundary + j - first);
 }
 
 void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float share, LightSample ls, vec4 uEllipsoid,
@@ -243,7 +243,7 @@ void ellipsoidalConnection(uint path, NeeVertex v, float s, float invPdfS, float
     g2 *= cosY;
   }
   float value = share * v.throughput * f1 * g1 * f2 * g2 * ls.emission * es.weight * invPdfS / ls.pdf;
-  if (kSpecNeeModeValue == kNeeMis && kSpecTermValue == kTermInterior) {
+  if (kSpecNeeModeValue == kNeeMis && jump == kNoJump) {
     float pBsdf = vertexPdf(v, w1) * abs(dot(xk.normal, w1)) / (len1 * len1);
     float pEll = 1.0 / (invPdfS * es.weight);
     value *= powerHeuristic(pEll, pBsdf);
@@ -276,16 +276,16 @@ bool emitterHitCounts(uint depth, uint e) { return kSpecNeeModeValue == kNeeStan
 void neeAtVertex(uint path, NeeVertex v, uint depth, uint pixel, uint sampleIndex) {
   uint seed = frame.image.w;
   v.depth = depth;
-  if (kSpecTermValue == kTermPathLength) {
+  if (kSpecTermValue != kTermInterior && depth >= v.firstEllipsoidVertex && depth + 2u <= frame.gateInfo.w) {
     // Every path an ellipsoidal connection can make, placed on a jump instead of sampled from W.
-    if (depth >= v.firstEllipsoidVertex && depth + 2u <= frame.gateInfo.w) {
-      Rng rg = rngForBounce(pixel, sampleIndex, depth, kRngSlotGate, seed);
-      Rng rl = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoidLight, seed);
-      Rng re = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoid, seed);
-      pathLengthBoundaryConnection(path, v, rngNext4(rg).x, rngNext4(rl).xyz, rngNext4(re));
-    }
-    return;
+    // The random numbers are those of the interior term's connections from this vertex, so the
+    // pass running both terms computes exactly what the two separate passes do.
+    Rng rg = rngForBounce(pixel, sampleIndex, depth, kRngSlotGate, seed);
+    Rng rl = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoidLight, seed);
+    Rng re = rngForBounce(pixel, sampleIndex, depth, kRngSlotEllipsoid, seed);
+    pathLengthBoundaryConnection(path, v, rngNext4(rg).x, rngNext4(rl).xyz, rngNext4(re));
   }
+  if (kSpecTermValue == kTermPathLength) return;
   if (standardNeeAt(depth, v.firstEllipsoidVertex)) {
     Rng r = rngForBounce(pixel, sampleIndex, depth, kRngSlotLight, seed);
     standardNee(path, v, depth, rngNext4(r).xyz);

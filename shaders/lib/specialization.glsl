@@ -8,7 +8,7 @@ layout(constant_id = 2) const uint kSpecGateTypeValue = 0u;
 layout(constant_id = 3) const uint kSpecCameraTypeValue = 0u;
 layout(constant_id = 4) const uint kSpecLightMaskValue = 3u;
 layout(constant_id = 5) const uint kSpecLanesValue = 1u;  // derivative lanes (derivative variants)
-layout(constant_id = 6) const uint kSpecTermValue = 0u;   // kTermInterior / kTermPathLength
+layout(constant_id = 6) const uint kSpecTermValue = 0u;   // kTerm*
 layout(constant_id = 7) const uint kSpecAntitheticValue = 0u;
 layout(constant_id = 8) const uint kSpecAdjointTargetsValue = 0u;  // kAdjoint* bits (adjoint variants)
 layout(constant_id = 9) const uint kSpecEllipsoidSelectionValue = 0u;  // kEllipsoidDescend / kEllipsoidEnumerate

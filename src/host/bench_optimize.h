@@ -28,6 +28,7 @@ struct BenchOptimizeRow {
   double checkSeconds = 0;        // the host's SAH check of the refit tree (every kBvhQualityCheckInterval)
   double renderSeconds = 0;       // the primal render
   double interiorSeconds = 0, edgeSeconds = 0, boundarySeconds = 0, allSeconds = 0;  // adjoint gradients (NaN: skipped)
+  double allApartSeconds = 0;  // all terms, the interior and path-length-boundary terms tracing their own paths
   uint32_t denseLanes = 0;        // parameters of the forward-mode contrast
   double denseSeconds = 0;        // their derivative images (all terms)
   // An iteration of `vktg optimize` on the device: update + render + the gradient of every term run

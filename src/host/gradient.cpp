@@ -108,8 +108,9 @@ GradientPlan planGradient(const Scene& scene, const RenderSetup& setup, const Pa
 namespace {
 
 // The renders of a gradient: one per term the plan picks, each with its own options and budget
-// (0: the setup's spp).
-enum class Term { Interior, Edge, PathLengthPerPixel, PathLengthFromCamera };
+// (0: the setup's spp). A loss gradient may run the interior and per-pixel path-length-boundary
+// terms on one set of paths.
+enum class Term { Interior, Edge, PathLengthPerPixel, PathLengthFromCamera, InteriorAndPathLength };
 
 struct TermPass {
   Term term;
@@ -117,22 +118,37 @@ struct TermPass {
   uint32_t spp;
 };
 
-std::vector<TermPass> termPasses(const GradientPlan& plan, const Gate& gate, const GradientOptions& options) {
+// Whether a loss gradient traces the interior and per-pixel path-length-boundary terms' paths once.
+bool sharesPaths(const GradientPlan& plan, const GradientOptions& options, uint32_t spp) {
+  return options.sharePaths && plan.interior && plan.pathLengthPerPixel &&
+         (options.sppBoundary == 0 || options.sppBoundary == spp);
+}
+
+std::vector<TermPass> termPasses(const GradientPlan& plan, const Gate& gate, const GradientOptions& options,
+                                 bool sharePaths = false) {
   std::vector<TermPass> passes;
   RenderOptions base = options.render;
   // The interior pass pairs mirrored lengths of gaussian gates only; the path-length-boundary
   // pass (two-jump gates) pairs both jumps.
   base.antithetic = plan.antithetic && gate.type == GateType::Gaussian;
-  if (plan.interior) passes.push_back({Term::Interior, base, 0});
+  RenderOptions boundary = base;
+  boundary.pathLengthBoundary = true;
+  boundary.antithetic = plan.antithetic;
+  if (sharePaths) {
+    // The interior term's antithetic pairs are for gaussian gates, which have no jumps: the
+    // boundary's setting serves both.
+    RenderOptions both = boundary;
+    both.withInterior = true;
+    passes.push_back({Term::InteriorAndPathLength, both, 0});
+  } else if (plan.interior) {
+    passes.push_back({Term::Interior, base, 0});
+  }
   if (plan.edges) {
     RenderOptions term = base;
     term.edges = true;
     passes.push_back({Term::Edge, term, options.sppEdge});
   }
-  RenderOptions boundary = base;
-  boundary.pathLengthBoundary = true;
-  boundary.antithetic = plan.antithetic;
-  if (plan.pathLengthPerPixel) passes.push_back({Term::PathLengthPerPixel, boundary, options.sppBoundary});
+  if (plan.pathLengthPerPixel && !sharePaths) passes.push_back({Term::PathLengthPerPixel, boundary, options.sppBoundary});
   if (plan.pathLengthFromCamera) {
     boundary.pathLengthFromCamera = true;
     passes.push_back({Term::PathLengthFromCamera, boundary, options.sppBoundary});
@@ -210,6 +226,7 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
       case Term::Edge: result.edges = std::move(images); break;
       case Term::PathLengthPerPixel:
       case Term::PathLengthFromCamera: accumulateTerm(result.pathLength, images); break;
+      case Term::InteriorAndPathLength: throw Error("internal: derivative images run their terms apart");
     }
   }
   if (result.total.derivatives.empty()) throw Error("--terms: no derivative term selected");
@@ -246,7 +263,13 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
   LossGradient result;
   const ParameterEffects effects = parameterEffects(model->baseScene(), model->selected());
   std::vector<GradientPlan> plans;
-  for (const AdjointView& view : views) plans.push_back(planGradient(scene.scene(), view.setup, effects, options));
+  std::vector<bool> sharePaths;
+  for (const AdjointView& view : views) {
+    plans.push_back(planGradient(scene.scene(), view.setup, effects, options));
+    sharePaths.push_back(sharesPaths(plans.back(), options, view.setup.settings.spp));
+    if (sharePaths.back())
+      plans.back().reasons.push_back(std::string(kSharedPathsReason) + " of the paths (same spp)");
+  }
   if (!plans.empty()) result.plan = plans.front();
   const GradientLayout layout = gradientLayout(scene.scene(), scene.prepared());
   if (!state.accumulator || state.accumulator->layout().total != layout.total)
@@ -280,7 +303,7 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
       const AdjointView& view = views[v];
       scene.placePointLights(view.lightPositions);
       AdjointTarget target{&adjointBuffers[v], state.accumulator.get(), state.scale, targets};
-      for (TermPass pass : termPasses(plans[v], view.setup.gate, options)) {
+      for (TermPass pass : termPasses(plans[v], view.setup.gate, options, sharePaths[v])) {
         RenderSetup termSetup = view.setup;
         if (pass.spp > 0) termSetup.settings.spp = pass.spp;
         pass.options.adjoint = &target;

@@ -22,6 +22,9 @@ struct GradientOptions {
   uint32_t sppBoundary = 0;         // samples per pixel of the path-length-boundary pass (0: the scene's spp)
   uint32_t sppEdge = 0;             // edge samples per pixel, on average, of the edge pass (0: the scene's spp)
   AntitheticMode antithetic = AntitheticMode::Auto;
+  // Loss gradients: the interior and per-pixel path-length-boundary terms from one trace of the
+  // paths when both run at the same spp (false: a trace each, the same sum; for comparisons).
+  bool sharePaths = true;
 };
 
 // What the gradient planner runs and why.
@@ -34,6 +37,10 @@ struct GradientPlan {
   bool antithetic = false;
   std::vector<std::string> reasons;
 };
+
+// The plan's reason a loss gradient gives for tracing the interior and per-pixel path-length-boundary
+// terms' paths once.
+inline constexpr const char* kSharedPathsReason = "interior and per-pixel path-length-boundary terms from one trace";
 
 // Near-delta: a gate this narrow relative to its centre gets antithetic pairs (gaussian: sigma/mu;
 // box and truncated gaussian: half their support's width over its centre).

@@ -162,6 +162,8 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
     throw Error("internal: path-length-boundary connections from the camera belong to that term");
   if (options.pathLengthBoundary && (!derivative || !setup.gate.hasJumps()))
     throw Error("internal: the path-length-boundary term needs derivatives and a gate with jumps");
+  if (options.withInterior && (!adjoint || !options.pathLengthBoundary || splat))
+    throw Error("internal: the interior term shares the paths of the per-pixel path-length-boundary pass in adjoint renders only");
   if (splat && totalPaths >= (uint64_t(1) << 32))
     throw Error(std::string(edges ? "--spp-edge: " : "--spp-boundary: ") + std::to_string(totalPaths) +
                 " splatted samples are too many for one render");
@@ -280,7 +282,9 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   spec[gpu::kSpecCameraType] = uint32_t(setup.camera.type);
   spec[gpu::kSpecLightMask] = prepared.lightMask;
   spec[gpu::kSpecLanes] = std::max(lanes, 1u);
-  spec[gpu::kSpecTerm] = options.pathLengthBoundary ? gpu::kTermPathLength : gpu::kTermInterior;
+  spec[gpu::kSpecTerm] = !options.pathLengthBoundary ? gpu::kTermInterior
+                         : options.withInterior    ? gpu::kTermInteriorAndPathLength
+                                                   : gpu::kTermPathLength;
   spec[gpu::kSpecAntithetic] = options.antithetic ? 1u : 0u;
   spec[gpu::kSpecAdjointTargets] = adjoint ? adjoint->targets : 0u;
   spec[gpu::kSpecEllipsoidSelection] =

@@ -47,6 +47,10 @@ struct RenderOptions {
   // jump, camera -> x1 -> light behind a pinhole and camera -> emitter (connect_camera_boundary:
   // connections from the camera, splatted; settings.spp samples per pixel on average).
   bool pathLengthFromCamera = false;
+  // With pathLengthBoundary, in an adjoint render without pathLengthFromCamera: the interior term
+  // too, from the same paths (one trace serves both; the sum is what the two passes give with the
+  // same seed, since both draw the same random numbers).
+  bool withInterior = false;
   // Or the visibility-boundary (edge) term: settings.spp edge samples per pixel on average
   // (sample_edges), splatted into the pixels their camera connections reach.
   bool edges = false;

@@ -132,15 +132,20 @@ VKTG_CONST(uint, kUpdateBindingEdges, 20);          // GpuEdge[]
 VKTG_CONST(uint, kUpdateBindingEdgeFaces, 21);      // uvec4[edge]: x, y the vertex opposite the edge in face 0, 1 (~0: none)
 VKTG_CONST(uint, kUpdateBindingCount, 22);
 
-// Shadow-ray slots of a path per bounce: per vertex a standard connection and an (antithetic) pair of
-// ellipsoidal ones, for two vertices, since at a point sensor generate_camera_rays (the sensor) and
-// the first hit queue theirs before the same trace. A slot's place is fixed, (vertex depth & 1) *
+// Shadow-ray slots of a path per bounce: per vertex a standard connection, an (antithetic) pair of
+// ellipsoidal ones and the path-length-boundary ones (one per jump; the adjoint pass that runs the
+// interior and path-length-boundary terms on the same paths fills both kinds). A boundary
+// connection may share the mirror's slot: mirrors are for gaussian gates, which have no jumps.
+// All of it for two vertices, since at a point sensor generate_camera_rays (the sensor) and the
+// first hit queue theirs before the same trace. A slot's place is fixed, (vertex depth & 1) *
 // kConnectionsPerVertex + kind, and trace_shadow_rays visits a path's slots in order, so a path's
 // contributions add up in the same order on every run.
-VKTG_CONST(uint, kConnectionsPerVertex, 3);
+VKTG_CONST(uint, kConnectionsPerVertex, 4);
 VKTG_CONST(uint, kConnectionStandard, 0);
-VKTG_CONST(uint, kConnectionEllipsoidal, 1);  // and 2: the antithetic mirror or the second jump
-VKTG_CONST(uint, kShadowRaysPerPath, 6);
+VKTG_CONST(uint, kConnectionEllipsoidal, 1);  // and 2: the antithetic mirror
+VKTG_CONST(uint, kConnectionBoundary, 2);     // and 3: the second jump
+VKTG_CONST(uint, kShadowRaysPerPath, 8);
+VKTG_CONST(uint, kNoJump, 0xffffffffu);  // ShadowRay.info.z of a connection that samples its length (not on a jump)
 VKTG_CONST(uint, kNoTape, 0xffffffffu);  // ShadowRay.info.w of a connection from the camera (no tape vertex)
 
 // ---- Specialisation constants (ids) and push constants of the passes ---------------------------
@@ -150,7 +155,7 @@ VKTG_CONST(uint, kSpecGateType, 2);       // kGate*
 VKTG_CONST(uint, kSpecCameraType, 3);     // kCamera*
 VKTG_CONST(uint, kSpecLightMask, 4);      // bit kLightAreaTriangle / kLightPoint present
 VKTG_CONST(uint, kSpecLanes, 5);          // derivative lanes K per path (derivative variants only)
-VKTG_CONST(uint, kSpecTerm, 6);           // kTermInterior / kTermPathLength (derivative variants only)
+VKTG_CONST(uint, kSpecTerm, 6);           // kTerm* (derivative variants only)
 VKTG_CONST(uint, kSpecAntithetic, 7);     // 1: ellipsoidal connections in antithetic pairs s, 2 mu - s
 VKTG_CONST(uint, kSpecAdjointTargets, 8); // adjoint variants: kAdjoint* bits, what the gradient is taken of
 VKTG_CONST(uint, kSpecEllipsoidSelection, 9);  // kEllipsoidDescend / kEllipsoidEnumerate
@@ -169,6 +174,7 @@ VKTG_CONST(uint, kAdjointGate, 16);       // the gate's centre
 
 VKTG_CONST(uint, kTermInterior, 0);       // d/dθ [W(L) f] along sampled paths
 VKTG_CONST(uint, kTermPathLength, 1);     // paths on L = s at the gate's jumps, weighted ΔW(s) dL/dθ
+VKTG_CONST(uint, kTermInteriorAndPathLength, 2);  // both from one set of paths (adjoint only)
 
 // What a derivative lane differentiates (GpuLane.info.x).
 VKTG_CONST(uint, kLaneGeometry, 0);       // vertex velocities (kBindingVertexVelocity) and/or a point light's velocity
