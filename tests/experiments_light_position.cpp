@@ -1,0 +1,60 @@
+// The light-position experiment (experiments/light_position, docs/experiments.md) at reduced
+// length: a small lamp's position recovered from near-delta gated measurements (sigma / mu = 1e-3)
+// of a glossy plate, with antithetic pairs and, for the same time, without. Asserts the documented
+// outcome: with pairs the parameter error falls below a stated bound, and without them, given the
+// iterations that cost the same time, it ends measurably worse. Errors are medians over the last
+// 10 iterations (Adam oscillates about its optimum by about its learning rate).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "host/optimize.h"
+#include "opt/run_directory.h"
+#include "support/cli_runner.h"
+#include "support/gpu_context.h"
+
+namespace vktg {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kExperiment = fs::path(VKTG_SOURCE_DIR) / "experiments" / "light_position";
+// Of the documented 60 (with pairs) and 70 (without: at least the same time on lavapipe).
+constexpr uint32_t kIterationsOn = 30, kIterationsOff = 35;
+// Documented outcome (docs/experiments.md, seed 1): from 0.110, with pairs 0.004 after 60
+// iterations, without them still 0.10 after 70 (without pairs the gradient's standard deviation is
+// 27x larger and swamps its signal). At 30 / 35 iterations: with pairs below 0.35 of the start
+// (measured 0.024), without them at least 2x worse (measured 0.099).
+constexpr double kOnBound = 0.35, kOffRatio = 2.0;
+
+std::vector<double> parameterErrors(const fs::path& experiment, const fs::path& out, uint32_t iterations) {
+  OptimizeOptions o;
+  o.experiment = experiment;
+  o.runDirectory = out;
+  o.iterations = iterations;
+  optimize(test::testContext(), o);
+  return readLogColumns(out / "log.csv").at("parameter_error");
+}
+
+double medianOfLast10(std::vector<double> v) {
+  v.erase(v.begin(), v.end() - std::min<size_t>(10, v.size()));
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+TEST(ExperimentLightPosition, AntitheticPairsBeatNoPairsAtEqualTime) {
+  test::TempDir dir;
+  const std::vector<double> on = parameterErrors(kExperiment / "antithetic_on.experiment.json", dir / "on", kIterationsOn);
+  const std::vector<double> off =
+      parameterErrors(kExperiment / "antithetic_off.experiment.json", dir / "off", kIterationsOff);
+  const double onFinal = medianOfLast10(on), offFinal = medianOfLast10(off);
+  std::printf("  parameter error: antithetic pairs %.5f after %u iterations, none %.5f after %u (both from %.5f)\n",
+              onFinal, kIterationsOn, offFinal, kIterationsOff, on.front());
+  EXPECT_NEAR(on.front(), off.front(), 1e-12);
+  EXPECT_LT(onFinal, kOnBound * on.front());
+  EXPECT_GT(offFinal, kOffRatio * onFinal);
+}
+
+}  // namespace
+}  // namespace vktg
