@@ -6,13 +6,10 @@
 // optimum by about its learning rate).
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <filesystem>
 
-#include "host/optimize.h"
-#include "opt/run_directory.h"
 #include "support/cli_runner.h"
-#include "support/gpu_context.h"
+#include "support/experiment_run.h"
 
 namespace vktg {
 namespace {
@@ -27,26 +24,13 @@ constexpr uint32_t kIterations = 60;  // of the documented 150
 // state at least 3x worse (measured about 0.085).
 constexpr double kTofBound = 0.25, kSteadyRatio = 3.0;
 
-std::vector<double> parameterErrors(const fs::path& experiment, const fs::path& out) {
-  OptimizeOptions o;
-  o.experiment = experiment;
-  o.runDirectory = out;
-  o.iterations = kIterations;
-  optimize(test::testContext(), o);
-  return readLogColumns(out / "log.csv").at("parameter_error");
-}
-
-double medianOfLast10(std::vector<double> v) {
-  v.erase(v.begin(), v.end() - std::min<size_t>(10, v.size()));
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 TEST(ExperimentHeightfield, TimeOfFlightRecoversWhatSteadyStateCannot) {
   test::TempDir dir;
-  const std::vector<double> tof = parameterErrors(kExperiment / "tof.experiment.json", dir / "tof");
-  const std::vector<double> steady = parameterErrors(kExperiment / "steady.experiment.json", dir / "steady");
-  const double tofFinal = medianOfLast10(tof), steadyFinal = medianOfLast10(steady);
+  const std::vector<double> tof =
+      test::experimentParameterErrors(kExperiment / "tof.experiment.json", dir / "tof", kIterations);
+  const std::vector<double> steady =
+      test::experimentParameterErrors(kExperiment / "steady.experiment.json", dir / "steady", kIterations);
+  const double tofFinal = test::medianOfLast10(tof), steadyFinal = test::medianOfLast10(steady);
   std::printf("  parameter error after %u iterations: time of flight %.5f, steady %.5f (both from %.5f)\n", kIterations,
               tofFinal, steadyFinal, tof.front());
   EXPECT_NEAR(tof.front(), steady.front(), 1e-12);

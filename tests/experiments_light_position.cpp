@@ -6,13 +6,10 @@
 // 10 iterations (Adam oscillates about its optimum by about its learning rate).
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <filesystem>
 
-#include "host/optimize.h"
-#include "opt/run_directory.h"
 #include "support/cli_runner.h"
-#include "support/gpu_context.h"
+#include "support/experiment_run.h"
 
 namespace vktg {
 namespace {
@@ -28,27 +25,13 @@ constexpr uint32_t kIterationsOn = 30, kIterationsOff = 35;
 // (measured 0.024), without them at least 2x worse (measured 0.099).
 constexpr double kOnBound = 0.35, kOffRatio = 2.0;
 
-std::vector<double> parameterErrors(const fs::path& experiment, const fs::path& out, uint32_t iterations) {
-  OptimizeOptions o;
-  o.experiment = experiment;
-  o.runDirectory = out;
-  o.iterations = iterations;
-  optimize(test::testContext(), o);
-  return readLogColumns(out / "log.csv").at("parameter_error");
-}
-
-double medianOfLast10(std::vector<double> v) {
-  v.erase(v.begin(), v.end() - std::min<size_t>(10, v.size()));
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 TEST(ExperimentLightPosition, AntitheticPairsBeatNoPairsAtEqualTime) {
   test::TempDir dir;
-  const std::vector<double> on = parameterErrors(kExperiment / "antithetic_on.experiment.json", dir / "on", kIterationsOn);
+  const std::vector<double> on =
+      test::experimentParameterErrors(kExperiment / "antithetic_on.experiment.json", dir / "on", kIterationsOn);
   const std::vector<double> off =
-      parameterErrors(kExperiment / "antithetic_off.experiment.json", dir / "off", kIterationsOff);
-  const double onFinal = medianOfLast10(on), offFinal = medianOfLast10(off);
+      test::experimentParameterErrors(kExperiment / "antithetic_off.experiment.json", dir / "off", kIterationsOff);
+  const double onFinal = test::medianOfLast10(on), offFinal = test::medianOfLast10(off);
   std::printf("  parameter error: antithetic pairs %.5f after %u iterations, none %.5f after %u (both from %.5f)\n",
               onFinal, kIterationsOn, offFinal, kIterationsOff, on.front());
   EXPECT_NEAR(on.front(), off.front(), 1e-12);

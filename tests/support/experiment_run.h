@@ -1,0 +1,17 @@
+// Runs of the experiments under experiments/ for their reduced tests: the parameter error per
+// iteration, and a summary of its end robust to Adam's oscillation about the optimum.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace vktg::test {
+
+// Runs `experiment` for `iterations` into `out` and returns log.csv's parameter_error column.
+std::vector<double> experimentParameterErrors(const std::filesystem::path& experiment, const std::filesystem::path& out,
+                                              uint32_t iterations);
+
+// The median of the last 10 values (Adam oscillates about its optimum by about its learning rate).
+double medianOfLast10(std::vector<double> values);
+
+}  // namespace vktg::test
