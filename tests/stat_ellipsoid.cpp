@@ -22,18 +22,12 @@
 namespace vktg::test {
 namespace {
 
-using SampleIn = EllipsoidSampleIn;
-using SampleOut = EllipsoidSampleOut;
-
-const dvec3 kF1 = kPlaneAndTiltedFocus1, kF2 = kPlaneAndTiltedFocus2;
-std::vector<RefTriangle> sceneTriangles() { return planeAndTiltedTriangles(); }
-
 Scene makeScene(const std::vector<RefTriangle>& tris) {
   return sceneOfShapes({shapeOfTriangles("plane", {tris[0], tris[1]}), shapeOfTriangles("tilted", {tris[2]})});
 }
 
 // Index in `tris` of the GPU triangle with these vertices (any vertex order), or -1.
-int matchTriangle(const std::vector<RefTriangle>& tris, const SampleOut& o) {
+int matchTriangle(const std::vector<RefTriangle>& tris, const EllipsoidSampleOut& o) {
   dvec3 g[3] = {dvec3(o.p0[0], o.p0[1], o.p0[2]), dvec3(o.p1[0], o.p1[1], o.p1[2]), dvec3(o.p2[0], o.p2[1], o.p2[2])};
   for (size_t t = 0; t < tris.size(); ++t) {
     dvec3 v[3] = {tris[t].p0, tris[t].p1, tris[t].p2};
@@ -65,48 +59,37 @@ double betaDensity(double s) {
   return 30.0 * t * t * (1 - t) * (1 - t) / (kSHi - kSLo);
 }
 
-std::vector<SampleIn> makeInputs(size_t n, uint32_t seed, double fixedS) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::vector<SampleIn> in(n);
-  for (SampleIn& x : in) {
-    for (int k = 0; k < 3; ++k) {
-      x.f1[k] = float(kF1[k]);
-      x.f2[k] = float(kF2[k]);
-    }
-    if (fixedS > 0.0) {
-      x.s = float(fixedS);
-    } else {
-      float m[5];
-      for (float& v : m) v = unit(rng);
-      std::nth_element(m, m + 2, m + 5);  // median of 5 uniforms ~ Beta(3, 3)
-      x.s = float(kSLo + (kSHi - kSLo) * m[2]);
-    }
-    for (float& u : x.u) u = unit(rng);
-    x.pad = 0.0f;
-  }
-  return in;
+// Inputs at length fixedS, or (fixedS <= 0) at lengths drawn from betaDensity.
+std::vector<EllipsoidSampleIn> makeInputs(size_t n, uint32_t seed, double fixedS) {
+  return planeAndTiltedInputs(n, seed, [fixedS](std::mt19937& rng) {
+    if (fixedS > 0.0) return float(fixedS);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    float m[5];
+    for (float& v : m) v = unit(rng);
+    std::nth_element(m, m + 2, m + 5);  // median of 5 uniforms ~ Beta(3, 3)
+    return float(kSLo + (kSHi - kSLo) * m[2]);
+  });
 }
 
 TEST(StatEllipsoid, AreaDensityChiSquare) {
-  std::vector<RefTriangle> tris = sceneTriangles();
+  std::vector<RefTriangle> tris = planeAndTiltedTriangles();
   Scene scene = makeScene(tris);
   const size_t n = 200000;
   auto in = makeInputs(n, 21, 0.0);
-  auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidEnumerate);
+  auto out = runKernel<EllipsoidSampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidEnumerate);
 
   // Chart: x in [t, t + 1) is triangle t's a-coordinate, y its b-coordinate.
   std::vector<dvec2> samples;
   size_t densityMismatch = 0;
   for (size_t i = 0; i < n; ++i) {
-    const SampleOut& o = out[i];
+    const EllipsoidSampleOut& o = out[i];
     if (!o.ok) continue;
     ASSERT_TRUE(std::isfinite(o.weight) && o.weight > 0.0f) << i;
     int t = matchTriangle(tris, o);
     ASSERT_GE(t, 0) << "sample " << i << " on an unknown triangle";
     dvec3 x(o.position[0], o.position[1], o.position[2]);
     // The sample lies on its triangle and on the ellipsoid (float precision of unit-scale data).
-    ASSERT_NEAR(pathLengthRef(kF1, kF2, x), in[i].s, 1e-5) << i;
+    ASSERT_NEAR(pathLengthRef(kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, x), in[i].s, 1e-5) << i;
     dvec3 g0(o.p0[0], o.p0[1], o.p0[2]), g1(o.p1[0], o.p1[1], o.p1[2]), g2(o.p2[0], o.p2[1], o.p2[2]);
     ASSERT_LT(glm::length(g0 + double(o.bary[0]) * (g1 - g0) + double(o.bary[1]) * (g2 - g0) - x), 1e-5) << i;
     if (!(std::abs(double(o.density) * o.weight - 1.0) < 1e-4)) ++densityMismatch;
@@ -120,8 +103,8 @@ TEST(StatEllipsoid, AreaDensityChiSquare) {
     double a = cx - t;
     const RefTriangle& tri = tris[t];
     dvec3 x = tri.p0 + a * (1.0 - b) * (tri.p1 - tri.p0) + b * (tri.p2 - tri.p0);
-    double s = pathLengthRef(kF1, kF2, x);
-    double pA = betaDensity(s) * ellipsoidDensityRef(tris, kF1, kF2, s, size_t(t), x);
+    double s = pathLengthRef(kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, x);
+    double pA = betaDensity(s) * ellipsoidDensityRef(tris, kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, s, size_t(t), x);
     return pA * glm::length(glm::cross(tri.p1 - tri.p0, tri.p2 - tri.p0)) * (1.0 - b);
   };
   Grid2D grid{0.0, double(tris.size()), 0.0, 1.0, 12 * int(tris.size()), 12};
@@ -138,7 +121,7 @@ TEST(StatEllipsoid, AreaDensityChiSquare) {
     bool met = false;
     for (const RefTriangle& tri : tris) {
       EllipseArcsRef arcs;
-      met = met || ellipseOnTriangleRef(kF1, kF2, s, tri, arcs);
+      met = met || ellipseOnTriangleRef(kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, s, tri, arcs);
     }
     if (met) hitMass += betaDensity(s) * (kSHi - kSLo) / steps;
   }
@@ -151,21 +134,21 @@ struct Reference {
   double value, error;
 };
 Reference areaDerivative(const std::vector<RefTriangle>& tris, double s) {
-  double coarse = shellAreaDerivative(tris, kF1, kF2, s, 1e-4 * s, 3000);
-  double fine = shellAreaDerivative(tris, kF1, kF2, s, 5e-5 * s, 6000);
+  double coarse = shellAreaDerivative(tris, kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, s, 1e-4 * s, 3000);
+  double fine = shellAreaDerivative(tris, kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, s, 5e-5 * s, 6000);
   return {fine, std::abs(fine - coarse)};
 }
 
 TEST(StatEllipsoid, MeanWeightIsAreaDerivative) {
-  std::vector<RefTriangle> tris = sceneTriangles();
+  std::vector<RefTriangle> tris = planeAndTiltedTriangles();
   Scene scene = makeScene(tris);
   // 2.2: tilted triangle only; 2.9 and 3.1: the plane (both triangles) as well.
   for (double s : {2.2, 2.9, 3.1}) {
     const size_t n = 1 << 17;
     auto in = makeInputs(n, 5 + uint32_t(s * 10), s);
-    auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidEnumerate);
+    auto out = runKernel<EllipsoidSampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidEnumerate);
     double sum = 0.0, sq = 0.0;
-    for (const SampleOut& o : out) {
+    for (const EllipsoidSampleOut& o : out) {
       ASSERT_TRUE(std::isfinite(o.weight));
       double w = o.ok ? o.weight : 0.0;
       sum += w;

@@ -27,15 +27,9 @@
 namespace vktg::test {
 namespace {
 
-using SampleIn = EllipsoidSampleIn;
-using SampleOut = EllipsoidSampleOut;
-
-const dvec3 kF1 = kPlaneAndTiltedFocus1, kF2 = kPlaneAndTiltedFocus2;
-std::vector<RefTriangle> coarseTriangles() { return planeAndTiltedTriangles(); }
-
 // The coarse surfaces as two shapes, each triangle split `levels` times.
 Scene tessellatedScene(uint32_t levels) {
-  std::vector<RefTriangle> tris = coarseTriangles();
+  std::vector<RefTriangle> tris = planeAndTiltedTriangles();
   Shape plane = shapeOfTriangles("plane", {tris[0], tris[1]}), tilted = shapeOfTriangles("tilted", {tris[2]});
   subdivideShape(plane, levels);
   subdivideShape(tilted, levels);
@@ -55,20 +49,8 @@ LeafOrder leafOrder(const Scene& scene) {
   return out;
 }
 
-std::vector<SampleIn> makeInputs(size_t n, uint32_t seed, double fixedS) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::vector<SampleIn> in(n);
-  for (SampleIn& x : in) {
-    for (int k = 0; k < 3; ++k) {
-      x.f1[k] = float(kF1[k]);
-      x.f2[k] = float(kF2[k]);
-    }
-    x.s = float(fixedS);
-    for (float& u : x.u) u = unit(rng);
-    x.pad = 0.0f;
-  }
-  return in;
+std::vector<EllipsoidSampleIn> makeInputs(size_t n, uint32_t seed, double fixedS) {
+  return planeAndTiltedInputs(n, seed, [fixedS](std::mt19937&) { return float(fixedS); });
 }
 
 TEST(StatEllipsoidDescent, TriangleChoiceChiSquare) {
@@ -85,12 +67,12 @@ TEST(StatEllipsoidDescent, TriangleChoiceChiSquare) {
   for (double s : lengths) {
     const size_t n = 100000;
     auto in = makeInputs(n, 17 + uint32_t(s * 10), s);
-    auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidDescend);
+    auto out = runKernel<EllipsoidSampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidDescend);
     // Cells: one per leaf triangle, the last one the descents that ended empty.
     std::vector<double> observed(triangles + 1, 0.0), expected(triangles + 1, 0.0);
     size_t densityMismatch = 0;
     for (size_t i = 0; i < n; ++i) {
-      const SampleOut& o = out[i];
+      const EllipsoidSampleOut& o = out[i];
       if (!o.ok) {
         observed[triangles] += 1.0;
         continue;
@@ -98,14 +80,14 @@ TEST(StatEllipsoidDescent, TriangleChoiceChiSquare) {
       ASSERT_TRUE(std::isfinite(o.weight) && o.weight > 0.0f) << i;
       ASSERT_LT(o.triangle, triangles) << i;
       dvec3 x(o.position[0], o.position[1], o.position[2]);
-      ASSERT_NEAR(pathLengthRef(kF1, kF2, x), in[i].s, 1e-5) << i;
+      ASSERT_NEAR(pathLengthRef(kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, x), in[i].s, 1e-5) << i;
       if (!(std::abs(double(o.density) * o.weight - 1.0) < 1e-4)) ++densityMismatch;
       observed[o.triangle] += 1.0;
     }
     EXPECT_EQ(densityMismatch, 0u) << "ellipsoidConnectionDensity != 1 / weight";
     double total = 0.0;
     for (size_t t = 0; t < triangles; ++t) {
-      expected[t] = n * ellipsoidDescentProbabilityRef(leaf.bvh, leaf.triangles, kF1, kF2, in[0].s, t);
+      expected[t] = n * ellipsoidDescentProbabilityRef(leaf.bvh, leaf.triangles, kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, in[0].s, t);
       total += expected[t];
     }
     expected[triangles] = std::max(double(n) - total, 0.0);
@@ -124,9 +106,9 @@ struct Reference {
   double value, error;
 };
 Reference areaDerivative(double s) {
-  std::vector<RefTriangle> tris = coarseTriangles();
-  double coarse = shellAreaDerivative(tris, kF1, kF2, s, 1e-4 * s, 3000);
-  double fine = shellAreaDerivative(tris, kF1, kF2, s, 5e-5 * s, 6000);
+  std::vector<RefTriangle> tris = planeAndTiltedTriangles();
+  double coarse = shellAreaDerivative(tris, kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, s, 1e-4 * s, 3000);
+  double fine = shellAreaDerivative(tris, kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, s, 5e-5 * s, 6000);
   return {fine, std::abs(fine - coarse)};
 }
 
@@ -138,10 +120,10 @@ TEST(StatEllipsoidDescent, MeanWeightIsAreaDerivative) {
       // The enumeration's weights barely vary at fixed s': fewer draws measure it as well.
       const size_t n = selection == gpu::kEllipsoidDescend ? 1 << 17 : 1 << 14;
       auto in = makeInputs(n, 7 + uint32_t(s * 10), s);
-      auto out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, selection);
+      auto out = runKernel<EllipsoidSampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, selection);
       double sum = 0.0, sq = 0.0;
       size_t mismatch = 0;
-      for (const SampleOut& o : out) {
+      for (const EllipsoidSampleOut& o : out) {
         ASSERT_TRUE(std::isfinite(o.weight));
         double w = o.ok ? o.weight : 0.0;
         sum += w;

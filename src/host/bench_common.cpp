@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 namespace vktg {
@@ -21,6 +22,10 @@ Gate boxGate(double a, double b) {
   g.a = a;
   g.b = b;
   return g;
+}
+
+uint32_t BenchOptions::scaledSide(uint32_t side) const {
+  return std::max(8u, uint32_t(std::lround(side * std::sqrt(scale))));
 }
 
 double median(std::vector<double> v) {

@@ -10,7 +10,7 @@
 
 namespace vktg {
 
-// Settings shared by `vktg bench render` and `vktg bench grad`.
+// Settings shared by the `vktg bench` commands.
 struct BenchOptions {
   std::filesystem::path outDir;  // run directory (references are cached there)
   uint32_t runs = 3;             // repetitions per point (medians are reported)
@@ -18,6 +18,12 @@ struct BenchOptions {
   double scale = 1.0;            // multiplies every spp (quick runs use < 1)
   uint64_t memoryBudget = 512ull << 20;
   std::function<void(const std::string&)> log;
+
+  void say(const std::string& line) const {
+    if (log) log(line);
+  }
+  // An image side of `side` pixels at full scale: the pixel count follows `scale` (at least 8 a side).
+  uint32_t scaledSide(uint32_t side) const;
 };
 
 Gate gaussianGate(double mu, double sigma);

@@ -79,12 +79,11 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
   BenchGradReport report;
   report.device = context.report().name;
   Renderer renderer(context);
-  auto log = [&](const std::string& s) { if (options.log) options.log(s); };
   auto record = [&](const BenchGradPoint& p) {
     char line[256];
     std::snprintf(line, sizeof line, "%-18s %-32s spp %6u  %8.3f s  relMSE %.3e", p.gate.c_str(), p.estimator.c_str(),
                   p.spp, p.seconds, p.relMse);
-    log(line);
+    options.say(line);
     report.points.push_back(p);
   };
 
@@ -222,7 +221,7 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
                   scene.render.spp, median(primal), median(interior), median(interior) / median(primal), median(total),
                   median(total) / median(primal));
     report.costLines.push_back(line);
-    log(line);
+    options.say(line);
   }
   return report;
 }

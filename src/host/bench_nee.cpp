@@ -49,10 +49,7 @@ struct Estimator {
 BenchNeeReport benchNee(VulkanContext& context, const BenchNeeOptions& options) {
   BenchNeeReport report;
   report.device = context.report().name;
-  auto log = [&](const std::string& line) {
-    if (options.log) options.log(line);
-  };
-  const uint32_t resolution = std::max(8u, uint32_t(std::lround(options.resolution * std::sqrt(options.scale))));
+  const uint32_t resolution = options.scaledSide(options.resolution);
   const double budget = options.secondsPerPoint * options.scale;
   const Estimator estimators[] = {{"standard", NeeMode::Standard, EllipsoidSelection::Auto},
                                   {"ellipsoidal (descend)", NeeMode::Ellipsoidal, EllipsoidSelection::Descend},
@@ -61,7 +58,7 @@ BenchNeeReport benchNee(VulkanContext& context, const BenchNeeOptions& options) 
   for (uint32_t n : options.sizes) {
     const Scene scene = tessellatedRoom(n, resolution);
     const uint64_t triangles = scene.triangleCount();
-    log("room with a " + std::to_string(n) + "x" + std::to_string(n) + " heightfield: " + std::to_string(triangles) +
+    options.say("room with a " + std::to_string(n) + "x" + std::to_string(n) + " heightfield: " + std::to_string(triangles) +
         " triangles");
     DeviceScene device(context, scene);
     RenderSetup setup = RenderSetup::of(scene);
@@ -102,7 +99,7 @@ BenchNeeReport benchNee(VulkanContext& context, const BenchNeeOptions& options) 
       std::snprintf(line, sizeof line, "  %-24s %u spp: %.3g s per path (%.3g paths/s), %.3g rays/s, image mean %.4g",
                     e.name, setup.settings.spp, row.secondsPerPath, 1.0 / row.secondsPerPath, row.raysPerSecond,
                     row.imageMean);
-      log(line);
+      options.say(line);
       report.rows.push_back(row);
     }
   }

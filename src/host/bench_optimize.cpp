@@ -76,10 +76,7 @@ ImageSet randomAdjoint(uint32_t width, uint32_t height) {
 BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOptions& options) {
   BenchOptimizeReport report;
   report.device = context.report().name;
-  auto log = [&](const std::string& line) {
-    if (options.log) options.log(line);
-  };
-  const uint32_t resolution = std::max(8u, uint32_t(std::lround(options.resolution * std::sqrt(options.scale))));
+  const uint32_t resolution = options.scaledSide(options.resolution);
   const uint32_t spp = std::max(1u, uint32_t(std::lround(options.spp * options.scale)));
   Renderer renderer(context);
   for (uint32_t n : options.sizes) {
@@ -88,7 +85,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     row.parameters = uint64_t(n) * n;
     const Scene scene = heightfieldScene(n, resolution, spp);
     row.triangles = scene.triangleCount();
-    log("heightfield " + std::to_string(n) + "x" + std::to_string(n) + ": " + std::to_string(row.parameters) +
+    options.say("heightfield " + std::to_string(n) + "x" + std::to_string(n) + ": " + std::to_string(row.parameters) +
         " parameters, " + std::to_string(row.triangles) + " triangles");
     std::vector<uint32_t> all(scene.parameters.size());
     for (uint32_t k = 0; k < all.size(); ++k) all[k] = k;
@@ -177,7 +174,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
                   row.allSeconds / row.renderSeconds, row.allApartSeconds / row.renderSeconds, row.updateSeconds,
                   row.checkSeconds, row.denseLanes,
                   row.denseSeconds / row.renderSeconds);
-    log(line);
+    options.say(line);
     report.rows.push_back(row);
   }
   return report;

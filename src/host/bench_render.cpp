@@ -71,7 +71,6 @@ BenchRenderReport benchRender(VulkanContext& context, const BenchRenderOptions& 
   BenchRenderReport report;
   report.device = context.report().name;
   Renderer renderer(context);
-  auto log = [&](const std::string& s) { if (options.log) options.log(s); };
   std::filesystem::create_directories(options.outDir);
 
   std::vector<BenchCase> cases;
@@ -119,7 +118,7 @@ BenchRenderReport benchRender(VulkanContext& context, const BenchRenderOptions& 
         RenderOptions ro;
         ro.memoryBudget = options.memoryBudget;
         ro.nee = c.gate.type == GateType::Box ? NeeMode::Standard : NeeMode::Ellipsoidal;
-        log("reference " + c.sceneName + " " + c.gateName + " (" + std::to_string(ref.render.spp) + " spp)");
+        options.say("reference " + c.sceneName + " " + c.gateName + " (" + std::to_string(ref.render.spp) + " spp)");
         RenderResult r = renderer.render(ref, ro);
         c.reference = r.mean.layers[0].pixels;
         writeExr(cached, r.mean);
@@ -166,7 +165,7 @@ BenchRenderReport benchRender(VulkanContext& context, const BenchRenderOptions& 
         char line[256];
         std::snprintf(line, sizeof line, "%-8s %-18s %-11s spp %6u  %8.3f s  relMSE %.3e", p.scene.c_str(),
                       p.gate.c_str(), p.estimator.c_str(), spp, p.seconds, p.relMse);
-        log(line);
+        options.say(line);
         report.points.push_back(p);
       }
     }
@@ -195,7 +194,7 @@ BenchRenderReport benchRender(VulkanContext& context, const BenchRenderOptions& 
                                      double(b.stats.extensionRays + b.stats.shadowRays)),
                   (unsigned long long)a.stats.endedByGate);
     report.cutoffSummary = text;
-    log(text);
+    options.say(text);
   }
   report.peakHostMiB = peakHostMiB();
   return report;

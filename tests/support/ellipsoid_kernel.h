@@ -1,6 +1,8 @@
 // What the tests of ellipsoidal connections share: the layout of tests/shaders/ellipsoid_sample.comp
 // and scenes made of given triangles.
 #pragma once
+#include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,9 @@ static_assert(sizeof(EllipsoidSampleIn) == 48 && sizeof(EllipsoidSampleOut) == 8
 std::vector<RefTriangle> planeAndTiltedTriangles();
 inline const dvec3 kPlaneAndTiltedFocus1{-0.3, 0.2, 1.5};
 inline const dvec3 kPlaneAndTiltedFocus2{0.4, -0.1, 1.2};
+// n kernel inputs with those foci: each draws its length s' from `length`, then its 4 uniforms.
+std::vector<EllipsoidSampleIn> planeAndTiltedInputs(size_t n, uint32_t seed,
+                                                    const std::function<float(std::mt19937&)>& length);
 
 // A diffuse shape made of `triangles` (float positions), one vertex triple each.
 Shape shapeOfTriangles(const std::string& name, const std::vector<RefTriangle>& triangles);
