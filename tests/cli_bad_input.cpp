@@ -37,19 +37,6 @@ json baseScene() {
   })");
 }
 
-// Every regular file in the directory with its bytes, and every other entry by name.
-std::map<std::string, std::string> snapshot(const TempDir& dir) {
-  std::map<std::string, std::string> state;
-  for (const auto& entry : fs::recursive_directory_iterator(dir.path())) {
-    const std::string name = fs::relative(entry.path(), dir.path()).string();
-    std::error_code error;
-    if (entry.is_symlink()) state[name] = "<symlink to " + fs::read_symlink(entry.path()).string() + ">";
-    else if (entry.is_regular_file(error) && ::access(entry.path().c_str(), R_OK) == 0) state[name] = readFileBytes(entry.path());
-    else state[name] = "<not read>";
-  }
-  return state;
-}
-
 class CliBadInput : public ::testing::Test {
  protected:
   fs::path writeScene(const json& scene, const std::string& name = "scene.json") {
@@ -68,7 +55,7 @@ class CliBadInput : public ::testing::Test {
   // Runs `vktg ARGS` in the temporary directory and checks the failure contract; every string
   // in `keywords` must appear in the one error line.
   void expectCleanFailure(const std::vector<std::string>& args, const std::vector<std::string>& keywords) {
-    const auto before = snapshot(m_dir);
+    const auto before = directorySnapshot(m_dir);
     CliResult r = runVktg(args, {.cwd = m_dir.path(), .timeoutSeconds = kTimeoutSeconds});
     ASSERT_FALSE(r.timedOut) << "hang\n" << r.describe();
     ASSERT_TRUE(r.exited) << "crash\n" << r.describe();
@@ -77,7 +64,7 @@ class CliBadInput : public ::testing::Test {
     ASSERT_EQ(errors.size(), 1u) << "expected exactly one 'vktg: error: ' line\n" << r.describe();
     for (const std::string& word : keywords)
       EXPECT_NE(errors[0].find(word), std::string::npos) << "the error does not mention '" << word << "': " << errors[0];
-    EXPECT_EQ(snapshot(m_dir), before) << "the run created or changed files\n" << r.describe();
+    EXPECT_EQ(directorySnapshot(m_dir), before) << "the run created or changed files\n" << r.describe();
   }
 
   TempDir m_dir;

@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "host/bench_bvh.h"
 #include "host/bench_grad.h"
 #include "host/bench_render.h"
 
@@ -14,7 +15,7 @@ const CommandSpec& benchSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "bench";
-    s.usage = "bench render|grad [options]";
+    s.usage = "bench render|grad|bvh [options]";
     s.description =
         "Measures accuracy versus time: relMSE against an exact (confocal plane) or cached high-sample\n"
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
@@ -22,7 +23,8 @@ const CommandSpec& benchSpec() {
         "cutoff saves. `bench grad`: relMSE versus time of d M / d h on the confocal plane against its exact\n"
         "value (standard, ellipsoidal and antithetic estimators), of the path-length-boundary term with and\n"
         "without antithetic pairs, of the edge term against its budget, and the time of a gradient relative\n"
-        "to a render. Writes bench.csv, plot.png and table.md into the output directory.";
+        "to a render. Writes bench.csv, plot.png and table.md into the output directory. `bench bvh`: the\n"
+        "median time to build the BVH of 10^4, 10^5 and 10^6 random triangles (CPU only; prints a table).";
     s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
@@ -40,8 +42,16 @@ int runBench(const std::vector<std::string>& argv) {
     std::cout << helpText(benchSpec());
     return 0;
   }
-  if (args.positionals.empty() || (args.positionals[0] != "render" && args.positionals[0] != "grad"))
-    throw UsageError("which benchmark? `vktg bench render` or `vktg bench grad`");
+  const std::string which = args.positionals.empty() ? "" : args.positionals[0];
+  if (which != "render" && which != "grad" && which != "bvh")
+    throw UsageError("which benchmark? `vktg bench render`, `vktg bench grad` or `vktg bench bvh`");
+  if (which == "bvh") {
+    std::printf("| triangles | BVH build (median of %u) | nodes |\n| ---: | ---: | ---: |\n",
+                args.count("--runs", 1, 100).value_or(3));
+    for (const BvhBenchRow& row : benchBvhBuild(args.count("--runs", 1, 100).value_or(3)))
+      std::printf("| %u | %.3f s | %zu |\n", row.triangles, row.medianSeconds, row.nodes);
+    return 0;
+  }
   std::string command = "vktg bench";
   for (const auto& a : argv) command += " " + a;
   bool quiet = args.has("--quiet");

@@ -5,6 +5,8 @@
 #include <limits>
 
 #include "host/frame_uniforms.h"
+#include "host/interrupt.h"
+#include "host/memory_preflight.h"
 #include "host/pass_pipelines.h"
 #include "host/pass_profiler.h"
 #include "host/wavefront.h"
@@ -107,19 +109,22 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
   const uint64_t filmElements = pixels * layers * channels;
   // kFilmFloatsPerElement floats per element (shift, compensated sums; see shared.h).
   const uint64_t filmFloats = gpu::kFilmFloatsPerElement * filmElements;
-  ChunkedBuffer film = allocateChunked(context, sizeof(float), filmFloats, "film");
   uint64_t filmBytes = filmFloats * sizeof(float);
-  if (filmBytes + gpuScene.bytes >= options.memoryBudget)
-    throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the film (" +
-                std::to_string(filmBytes >> 20) + " MiB) and the scene (" + std::to_string(gpuScene.bytes >> 20) +
-                " MiB); raise it");
   const std::vector<gpu::GpuEdge> edgeList =
       edges ? silhouetteEdges(prepared, movingVertices(options.derivativeLanes, prepared.vertices.size()))
             : std::vector<gpu::GpuEdge>{};
+  RenderMemory need;
+  need.film = filmBytes;
+  need.scene = gpuScene.bytes + edgeList.size() * sizeof(gpu::GpuEdge);
+  need.smallestBatch = wavefrontBytesPerPath(layers, lanes) * gpu::kWorkgroupSize;
+  need.filmShape = std::to_string(width) + " x " + std::to_string(height) + " pixels x " + std::to_string(layers) +
+                   " layers x " + std::to_string(channels) + " channels";
+  const uint64_t budget = checkRenderMemory(context, need, options.memoryBudget);
+  ChunkedBuffer film = allocateChunked(context, sizeof(float), filmFloats, "film");
   Buffer edgeBuffer(context, std::max<size_t>(16, edgeList.size() * sizeof(gpu::GpuEdge)), MemoryKind::Device, "scene.edges");
   edgeBuffer.upload(context, edgeList.data(), edgeList.size() * sizeof(gpu::GpuEdge));
   const uint32_t batchSize =
-      batchSizeFor(options.memoryBudget - filmBytes - gpuScene.bytes - edgeBuffer.size(), layers, lanes,
+      batchSizeFor(budget - filmBytes - gpuScene.bytes - edgeBuffer.size(), layers, lanes,
                    context.properties().limits.maxStorageBufferRange, totalPaths * slotsPerSample,
                    context.properties().limits.maxComputeWorkGroupCount[0]);
   const uint32_t samplesPerBatch = batchSize / slotsPerSample;
@@ -279,6 +284,7 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
     done += active;
     result.stats.batches++;
     if (options.progress) options.progress(double(done) / double(totalPaths));
+    throwIfInterrupted();
   }
   {
     cmdBuffer.begin();

@@ -94,7 +94,12 @@ CliResult runVktg(const std::vector<std::string>& args, const CliOptions& option
   pollfd fds[2] = {{outPipe[0], POLLIN, 0}, {errPipe[0], POLLIN, 0}};
   std::string* sinks[2] = {&result.out, &result.err};
   int openCount = 2;
+  bool signalled = false;
   while (openCount > 0) {
+    if (options.signal != 0 && !signalled && result.err.find(options.signalAfter) != std::string::npos) {
+      kill(pid, options.signal);
+      signalled = true;
+    }
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) {
       result.timedOut = true;
@@ -169,6 +174,18 @@ std::vector<std::string> TempDir::entries() const {
   for (const auto& entry : fs::directory_iterator(m_path)) names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
+}
+
+std::map<std::string, std::string> directorySnapshot(const TempDir& dir) {
+  std::map<std::string, std::string> state;
+  for (const auto& entry : fs::recursive_directory_iterator(dir.path())) {
+    const std::string name = fs::relative(entry.path(), dir.path()).string();
+    std::error_code error;
+    if (entry.is_symlink()) state[name] = "<symlink to " + fs::read_symlink(entry.path()).string() + ">";
+    else if (entry.is_regular_file(error) && ::access(entry.path().c_str(), R_OK) == 0) state[name] = readFileBytes(entry.path());
+    else state[name] = "<not read>";
+  }
+  return state;
 }
 
 std::string readFileBytes(const fs::path& path) {

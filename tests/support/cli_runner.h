@@ -26,6 +26,9 @@ struct CliOptions {
   std::map<std::string, std::string> env;  // set (over the inherited environment) in the child
   std::filesystem::path cwd;               // working directory; empty: inherit
   double timeoutSeconds = 300;
+  // When non-zero: sent to the child (alone, not its group) once its stderr contains `signalAfter`.
+  int signal = 0;
+  std::string signalAfter;
 };
 
 // Runs VKTG_BINARY with `args`. The child always runs with VKTG_VALIDATION=1 (so a validation
@@ -52,6 +55,10 @@ class TempDir {
  private:
   std::filesystem::path m_path;
 };
+
+// Every regular file under `dir` with its bytes, and every other entry by name: equal snapshots
+// before and after a run mean it created or changed nothing.
+std::map<std::string, std::string> directorySnapshot(const TempDir& dir);
 
 std::string readFileBytes(const std::filesystem::path& path);
 void writeFileBytes(const std::filesystem::path& path, const std::string& bytes);
