@@ -30,11 +30,16 @@ void main() {
   if (i >= activePaths) return;
   bool first = push.args.z == 0u && push.args.y == 0u;
   vec4 f = first ? vec4(pathAccum[(i * layers + layer) * channels + channel], 0.0, 0.0, 0.0) : loadFilm(e);
-  float sum = f.y, compensation = f.z, squares = f.w, squaresCompensation = 0.0;
+  // The squares are summed plainly, in sample order: the film has no room to carry their
+  // compensation from one batch to the next, and a compensation restarted at every batch would
+  // make the variance's last bits depend on the batch size. Their sum has no cancellation (all
+  // terms are >= 0), so its relative rounding error stays far below the variance's own
+  // statistical error.
+  float sum = f.y, compensation = f.z, squares = f.w;
   for (uint k = 0u; k < kPathsPerRound && i < activePaths; ++k, i += pixels) {
     float d = pathAccum[(i * layers + layer) * channels + channel] - f.x;
     addLength(sum, compensation, d);
-    addLength(squares, squaresCompensation, d * d);
+    squares += d * d;
   }
   storeFilm(e, vec4(f.x, sum, compensation, squares));
 }

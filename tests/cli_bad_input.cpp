@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/cli_runner.h"
+#include "support/file_permissions.h"
 
 namespace vktg::test {
 namespace {
@@ -37,19 +38,6 @@ json baseScene() {
   })");
 }
 
-// Every regular file in the directory with its bytes, and every other entry by name.
-std::map<std::string, std::string> snapshot(const TempDir& dir) {
-  std::map<std::string, std::string> state;
-  for (const auto& entry : fs::recursive_directory_iterator(dir.path())) {
-    const std::string name = fs::relative(entry.path(), dir.path()).string();
-    std::error_code error;
-    if (entry.is_symlink()) state[name] = "<symlink to " + fs::read_symlink(entry.path()).string() + ">";
-    else if (entry.is_regular_file(error) && ::access(entry.path().c_str(), R_OK) == 0) state[name] = readFileBytes(entry.path());
-    else state[name] = "<not read>";
-  }
-  return state;
-}
-
 class CliBadInput : public ::testing::Test {
  protected:
   fs::path writeScene(const json& scene, const std::string& name = "scene.json") {
@@ -68,8 +56,9 @@ class CliBadInput : public ::testing::Test {
   // Runs `vktg ARGS` in the temporary directory and checks the failure contract; every string
   // in `keywords` must appear in the one error line.
   void expectCleanFailure(const std::vector<std::string>& args, const std::vector<std::string>& keywords) {
-    const auto before = snapshot(m_dir);
-    CliResult r = runVktg(args, {.cwd = m_dir.path(), .timeoutSeconds = kTimeoutSeconds});
+    const auto before = directorySnapshot(m_dir);
+    CliResult r = runVktg(args, {.cwd = m_dir.path(), .timeoutSeconds = kTimeoutSeconds,
+                                 .enforcePermissions = m_enforcePermissions});
     ASSERT_FALSE(r.timedOut) << "hang\n" << r.describe();
     ASSERT_TRUE(r.exited) << "crash\n" << r.describe();
     EXPECT_NE(r.exitCode, 0) << r.describe();
@@ -77,10 +66,11 @@ class CliBadInput : public ::testing::Test {
     ASSERT_EQ(errors.size(), 1u) << "expected exactly one 'vktg: error: ' line\n" << r.describe();
     for (const std::string& word : keywords)
       EXPECT_NE(errors[0].find(word), std::string::npos) << "the error does not mention '" << word << "': " << errors[0];
-    EXPECT_EQ(snapshot(m_dir), before) << "the run created or changed files\n" << r.describe();
+    EXPECT_EQ(directorySnapshot(m_dir), before) << "the run created or changed files\n" << r.describe();
   }
 
   TempDir m_dir;
+  bool m_enforcePermissions = false;  // run vktg without root's permission override
 };
 
 TEST_F(CliBadInput, BaseSceneIsValid) {
@@ -96,7 +86,8 @@ TEST_F(CliBadInput, MissingSceneFile) {
 }
 
 TEST_F(CliBadInput, UnreadableSceneFile) {
-  if (geteuid() == 0) GTEST_SKIP() << "running as root, which reads files whatever their permissions";
+  if (!canDropFileOverrideForExec()) GTEST_SKIP() << "running as root without CAP_SETPCAP: cannot enforce permissions";
+  m_enforcePermissions = true;
   fs::path scene = writeScene(baseScene());
   fs::permissions(scene, fs::perms::none);
   expectCleanFailure({"render", scene.string(), "--out", out()}, {"scene.json", "cannot read"});

@@ -37,24 +37,12 @@ TEST(GradSlowBoundary, ConfocalBoxTotalEveryNee) {
 }
 
 // Truncated gaussian gate (mu 2.8, sigma 0.3, support [2.4, 3.2]): interior and boundary terms are
-// both non-zero. References: the double-precision quadrature of M (test_scenes.h) differentiated by
-// a central difference of step 1e-3 (error ~1e-7 relative: exact here), and finite differences.
+// both non-zero. References: the quadrature (boundary_test.h) and finite differences.
 TEST(GradSlowBoundary, ConfocalTruncatedGaussian) {
   constexpr double kMu = 2.8, kSigma = 0.3;
-  auto response = [&](double h, double shift) {
-    auto w = [&](double len) { return std::exp(-0.5 * std::pow((len - kMu - shift) / kSigma, 2.0)); };
-    return confocalGated(h, kRho, kIntensity, w, kBoxA + shift, kBoxB + shift);
-  };
-  constexpr double kStep = 1e-3;
-  double dt = -(response(kHeight + kStep, 0) - response(kHeight - kStep, 0)) / (2 * kStep);
-  double dc = (response(kHeight, kStep) - response(kHeight, -kStep)) / (2 * kStep);
-  auto makeScene = [&](uint32_t spp, uint32_t seed) {
-    Scene scene = confocalBoxScene(kBoxA, kBoxB, spp, seed);
-    scene.gate.type = GateType::TruncatedGaussian;
-    scene.gate.mu = kMu;
-    scene.gate.sigma = kSigma;
-    return scene;
-  };
+  const TruncatedGaussianDerivatives exact = truncatedGaussianDerivatives(kMu, kSigma);
+  const double dt = exact.dt, dc = exact.dc;
+  auto makeScene = [&](uint32_t spp, uint32_t seed) { return truncatedGaussianScene(kMu, kSigma, spp, seed); };
   GradientResult g = gradient(makeScene(100000, 37), {"t", "c"}, NeeMode::Ellipsoidal);
   ASSERT_TRUE(g.plan.pathLength);
   SeedDifference ft = seedFiniteDifference(makeScene(20000, 38), "t", 0.01, kFdSeeds, {});

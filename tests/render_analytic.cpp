@@ -23,6 +23,11 @@ void expectPointSensor(const Scene& scene, NeeMode nee, double reference) {
   options.nee = nee;
   RenderResult r = renderInTest(scene, options);
   EXPECT_EQ(r.stats.nonFinite, 0u);
+  // The estimator asked for is the one that ran: the plan says so, and only ellipsoidal
+  // connections query ellipsoids.
+  EXPECT_EQ(r.plan.nee, nee) << "asked for " << neeModeName(nee) << ", ran " << neeModeName(r.plan.nee);
+  if (nee == NeeMode::Standard) EXPECT_EQ(r.stats.ellipsoidQueries, 0u);
+  else EXPECT_GT(r.stats.ellipsoidQueries, 0u);
   ASSERT_EQ(r.mean.layers.size(), 1u);
   const std::vector<float>& mean = r.mean.layers[0].pixels;
   const std::vector<float>& variance = r.variance.layers[0].pixels;

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "vktg/error.h"
+#include "support/file_permissions.h"
 #include "support/file_test.h"
 #include "vktg/image_io.h"
 
@@ -19,6 +20,15 @@ namespace fs = std::filesystem;
 namespace {
 
 using vktg::test::expectError;
+using vktg::test::ChildOutcome;
+using vktg::test::runWithoutFileOverride;
+
+// A body run by runWithoutFileOverride threw a vktg::Error whose message contains every part.
+void expectChildError(const ChildOutcome& child, const std::vector<std::string>& parts) {
+  EXPECT_TRUE(child.threw) << "expected vktg::Error";
+  for (const std::string& part : parts)
+    EXPECT_NE(child.message.find(part), std::string::npos) << "message '" << child.message << "' lacks '" << part << "'";
+}
 using vktg::test::readAll;
 using vktg::test::writePlain;
 
@@ -76,11 +86,13 @@ TEST_F(AtomicWrite, TargetThatIsADirectoryThrows) {
 }
 
 TEST_F(AtomicWrite, ReadOnlyDirectoryKeepsPreviousFile) {
-  if (::geteuid() == 0) GTEST_SKIP() << "running as root: directory permissions are not enforced";
   writePlain(m_dir / "out.txt", "previous");
   fs::permissions(m_dir, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
                              fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
-  expectError([&] { vktg::writeFileAtomic(m_dir / "out.txt", "new"); }, {(m_dir / "out.txt").string(), "permission denied"});
+  // Without the permission override, so that the directory is read-only for root too.
+  ChildOutcome child = runWithoutFileOverride([&] { vktg::writeFileAtomic(m_dir / "out.txt", "new"); });
+  if (!child.ran) GTEST_SKIP() << "running as root and cannot drop CAP_DAC_OVERRIDE";
+  expectChildError(child, {(m_dir / "out.txt").string(), "permission denied"});
   EXPECT_EQ(readAll(m_dir / "out.txt"), "previous");
   EXPECT_EQ(listDirectory(m_dir), std::vector<std::string>{"out.txt"});
 }
@@ -183,10 +195,11 @@ TEST_F(CheckOutputPath, RefusesDirectoryAsOutput) {
 }
 
 TEST_F(CheckOutputPath, RefusesReadOnlyDirectory) {
-  if (::geteuid() == 0) GTEST_SKIP() << "running as root: directory permissions are not enforced";
   fs::create_directory(m_dir / "ro");
   fs::permissions(m_dir / "ro", fs::perms::owner_read | fs::perms::owner_exec);
-  expectError([&] { vktg::checkOutputPath(m_dir / "ro" / "out.exr", {}); }, {(m_dir / "ro" / "out.exr").string(), "not writable"});
+  ChildOutcome child = runWithoutFileOverride([&] { vktg::checkOutputPath(m_dir / "ro" / "out.exr", {}); });
+  if (!child.ran) GTEST_SKIP() << "running as root and cannot drop CAP_DAC_OVERRIDE";
+  expectChildError(child, {(m_dir / "ro" / "out.exr").string(), "not writable"});
 }
 
 }  // namespace

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include <random>
 #include <sstream>
 
+#include "support/hit_distance_reference.h"
 #include "vktg/bvh.h"
 #include "vktg/error.h"
 
@@ -235,6 +235,79 @@ TEST(IntersectTriangle, DegenerateTrianglesMiss) {
   EXPECT_FALSE(intersectTriangle({{0, 0, 0}, {1, 1, 0}, {2, 2, 0}}, {0.5f, 0.5f, 1.0f}, {0, 0, -1}, 0.0f, INFINITY));
 }
 
+TEST(IntersectTriangle, WatertightAtSharedEdgesAndVertices) {
+  // A tilted, bumpy grid of quads split in two: rays aimed exactly at its vertices (shared by up
+  // to six triangles) and at points of its shared edges must hit at least one triangle each. The
+  // edge functions of a shared edge are exact negatives, so no ray slips between two triangles.
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const int n = 12;
+  std::vector<glm::vec3> grid;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) grid.push_back({0.37f * i + 0.11f * j, 0.05f * unit(rng) + 0.13f * i, 0.41f * j});
+  Soup soup;
+  auto at = [&](int i, int j) { return grid[size_t(j * (n + 1) + i)]; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      soup.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      soup.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  size_t rays = 0, misses = 0;
+  for (int j = 1; j < n; ++j)
+    for (int i = 1; i < n; ++i)
+      for (int k = 0; k < 6; ++k) {
+        glm::vec3 target = k == 0 ? at(i, j)
+                           : k < 3 ? at(i, j) + unit(rng) * (at(i + 1, j + 1) - at(i, j))  // diagonal edge
+                                   : at(i, j) + unit(rng) * (at(i + 1, j) - at(i, j));      // grid edge
+        glm::vec3 origin = target + glm::vec3(4.0f * unit(rng) - 2.0f, 1.0f + 3.0f * unit(rng), 4.0f * unit(rng) - 2.0f);
+        ++rays;
+        if (!traceClosestBruteForce(soup, origin, target - origin, 0.0f, INFINITY)) ++misses;
+      }
+  EXPECT_EQ(misses, 0u) << "of " << rays << " rays through shared edges and vertices";
+}
+
+TEST(IntersectTriangle, RefinedHitDistanceWithinOneUlp) {
+  // Hit distances against the exact distance to the plane (long double): triangles 10^4 times
+  // larger than the distance to the hit (where the test's own t is off by 10^-4 relative),
+  // slivers, and grazing rays down to 1e-5 rad. docs/precision.md states the bound.
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  Soup soup;
+  for (int i = 0; i < 200; ++i) {
+    glm::vec3 c = randomVec(rng, -4.0f, 4.0f), axis = glm::normalize(randomVec(rng, -1.0f, 1.0f));
+    glm::vec3 side = glm::normalize(glm::cross(axis, randomVec(rng, -1.0f, 1.0f)));
+    float size = i % 2 ? 1e4f : 6.0f;
+    float width = i % 2 ? size : 1e-3f;
+    soup.push_back({c - size * axis, c + size * axis + width * side, c - width * side});
+  }
+  double worstUlps = 0, worstSteepUlps = 0, worstRatio = 0;
+  size_t hits = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const BvhTriangle& t = soup[size_t(i) % soup.size()];
+    glm::vec3 n = glm::normalize(glm::cross(t.p1 - t.p0, t.p2 - t.p0));
+    glm::vec3 target = t.p0 + 0.3f * unit(rng) * (t.p1 - t.p0) + 0.3f * unit(rng) * (t.p2 - t.p0);
+    glm::vec3 inPlane = glm::normalize(glm::cross(n, randomVec(rng, -1.0f, 1.0f)));
+    float grazing = i % 2 ? std::pow(10.0f, -1.0f - 4.0f * unit(rng)) : 0.3f + unit(rng);
+    glm::vec3 dir = glm::normalize(std::cos(grazing) * inPlane - std::sin(grazing) * n);
+    glm::vec3 origin = target - (0.5f + 10.0f * unit(rng)) * dir;
+    std::optional<RayHit> hit = intersectTriangle(t, origin, dir, 0.0f, INFINITY);
+    if (!hit) continue;
+    ++hits;
+    double ulps = test::hitDistanceErrorUlps(hit->t, test::exactHitDistance(t, origin, dir));
+    worstUlps = std::max(worstUlps, ulps);
+    if (i % 2 == 0) worstSteepUlps = std::max(worstSteepUlps, ulps);
+    double ratio = test::hitDistanceErrorRatio(hit->t, t, origin, dir);
+    worstRatio = std::max(worstRatio, ratio);
+    ASSERT_LE(ratio, 1.0) << "ray " << i << ": t " << hit->t;
+  }
+  EXPECT_GT(hits, 15000u);
+  // Where the ray meets the plane at 0.3 rad or more the bound is about an ulp, whatever the size.
+  EXPECT_LE(worstSteepUlps, test::kHitDistanceUlps);
+  std::printf("  %zu hits: refined hit distance within %.3f ulp of exact at >= 0.3 rad, %.3g ulp at grazing "
+              "angles down to 1e-5 rad; at most %.3f of the bound\n",
+              hits, worstSteepUlps, worstUlps, worstRatio);
+}
+
 TEST(BvhBuild, SingleTriangleIsRootLeaf) {
   Soup soup{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}};
   Bvh bvh = buildBvh(soup);
@@ -274,16 +347,11 @@ TEST(BvhBuild, Deterministic) {
   EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(gpu::GpuBvhNode)), 0);
 }
 
-TEST(BvhBuild, HundredThousandTrianglesBuildFast) {
+TEST(BvhBuild, HundredThousandTrianglesBuildSound) {
+  // The build's speed is a benchmark (`vktg bench bvh`), not a unit test.
   std::mt19937 rng(11);
   Soup soup = randomSoup(rng, 100000, 50.0f, 0.3f);
-  auto start = std::chrono::steady_clock::now();
   Bvh bvh = buildBvh(soup);
-  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  RecordProperty("build_seconds", std::to_string(seconds));
-  std::printf("100k-triangle build: %.3f s, %zu nodes\n", seconds, bvh.nodes.size());
-  // Generous for a loaded shared machine; a per-node sort or quadratic build takes far longer.
-  EXPECT_LT(seconds, 1.0);
   expectSoundStructure(bvh, soup);
 }
 
@@ -434,9 +502,9 @@ TEST(BvhAdversarial, GrazingRaysAlongTrianglePlanes) {
 
 TEST(BvhAdversarial, NearlyGrazingRaysLeavingTriangleEdges) {
   // The hardest case for box culling: a ray almost in a triangle's plane, starting just outside
-  // the triangle's box and moving away from it. The true crossing is behind the origin, but MT's
-  // t for such rays is off by far more than the box padding, so MT may report t > 0 while the
-  // box lies entirely behind the ray. Traversal must still agree with brute force.
+  // the triangle's box and moving away from it. The true crossing is behind the origin, but the
+  // test's t for such rays can be off by more than the box padding, so it may report t > 0 while
+  // the box lies entirely behind the ray. Traversal must still agree with brute force.
   std::mt19937 rng(14);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   Soup soup = randomSoup(rng, 400, 4.0f, 3.0f);

@@ -58,7 +58,9 @@ struct RayHit {
   uint32_t triangle = 0;    // index in leaf order (as on the GPU)
 };
 
-// Watertight-enough Möller–Trumbore as in shaders/lib/intersect.glsl; both faces hit.
+// Watertight ray-triangle test as in shaders/lib/intersect.glsl; both faces hit. Hit distances
+// (here and from the traversals) are refined against the triangle's plane: within about one ulp of
+// the exact distance (docs/precision.md); the window (tMin, tMax) is applied before refinement.
 std::optional<RayHit> intersectTriangle(const BvhTriangle& tri, glm::vec3 origin, glm::vec3 dir,
                                         float tMin, float tMax);
 // `triangles` in leaf order (triangles[i] = input[order[i]]).

@@ -9,7 +9,8 @@
 // tree would end the traversal with what was found so far (no out-of-bounds write, no hang).
 //
 // Closest hit: smallest t, ties broken by the smaller triangle index, so the result does not
-// depend on the visiting order and equals a brute-force loop over all triangles.
+// depend on the visiting order and equals a brute-force loop over all triangles. The winner's t is
+// then refined against its plane (lib/intersect.glsl).
 #ifndef VKTG_BVH_GLSL
 #define VKTG_BVH_GLSL
 #include "lib/intersect.glsl"
@@ -21,6 +22,7 @@ const uint kBvhStackSize = 64u;
 bool traceBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out float tHit, out vec2 uvHit,
               out uint triHit) {
   vec3 invDir = safeInverse(dir);
+  uvec3 axes = shearAxes(dir);
   uint stack[kBvhStackSize];
   uint size = 0u;
   uint node = 0u;
@@ -39,7 +41,7 @@ bool traceBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out fl
         float t;
         vec2 uv;
         // Tested against the full window: a hit at exactly tBest with a smaller index still wins.
-        if (!intersectTrianglePrepared(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, invDir, tMin, tMax, t, uv))
+        if (!intersectTrianglePrepared(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, invDir, axes, tMin, tMax, t, uv))
           continue;
         if (!found || t < tBest || (t == tBest && i < triHit)) {
           found = true;
@@ -71,6 +73,10 @@ bool traceBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out fl
     }
     if (size == 0u) break;
     node = stack[--size];
+  }
+  if (found && !anyHit) {
+    GpuTriangle tri = loadTriangle(triHit);
+    tHit = refinedHitDistance(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, tHit);
   }
   return found;
 }

@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "host/bench_bvh.h"
 #include "host/bench_nee.h"
 #include "host/bench_optimize.h"
 #include "host/bench_grad.h"
@@ -18,7 +19,7 @@ const CommandSpec& benchSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "bench";
-    s.usage = "bench render|grad|optimize|nee [options]";
+    s.usage = "bench render|grad|optimize|nee|bvh [options]";
     s.description =
         "Measures accuracy versus time: relMSE against an exact (confocal plane) or cached high-sample\n"
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
@@ -31,7 +32,8 @@ const CommandSpec& benchSpec() {
         "lanes, and of a whole iteration of `vktg optimize`. `bench nee`: the cost per path of standard NEE and of\n"
         "ellipsoidal NEE (triangles chosen by BVH descent or by enumeration) in the default room with an n x n\n"
         "heightfield on its floor, as n grows; every point renders until a time budget. Writes bench.csv and\n"
-        "table.md (and plot.png, except nee) into the output directory.";
+        "table.md (and plot.png, except nee) into the output directory. `bench bvh`: the median time to build\n"
+        "the BVH of 10^4, 10^5 and 10^6 random triangles (CPU only; prints a table).";
     s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
@@ -67,8 +69,16 @@ int runBench(const std::vector<std::string>& argv) {
     return 0;
   }
   const std::string which = args.positionals.empty() ? "" : args.positionals[0];
-  if (which != "render" && which != "grad" && which != "optimize" && which != "nee")
-    throw UsageError("which benchmark? `vktg bench render`, `vktg bench grad`, `vktg bench optimize` or `vktg bench nee`");
+  if (which != "render" && which != "grad" && which != "optimize" && which != "nee" && which != "bvh")
+    throw UsageError(
+        "which benchmark? `vktg bench render`, `vktg bench grad`, `vktg bench optimize`, `vktg bench nee` or `vktg bench bvh`");
+  if (which == "bvh") {
+    const uint32_t runs = args.count("--runs", 1, 100).value_or(3);
+    std::printf("| triangles | BVH build (median of %u) | nodes |\n| ---: | ---: | ---: |\n", runs);
+    for (const BvhBenchRow& row : benchBvhBuild(runs))
+      std::printf("| %u | %.3f s | %zu |\n", row.triangles, row.medianSeconds, row.nodes);
+    return 0;
+  }
   std::string command = "vktg bench";
   for (const auto& a : argv) command += " " + a;
   bool quiet = args.has("--quiet");

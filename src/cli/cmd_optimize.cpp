@@ -63,7 +63,6 @@ int runOptimize(const std::vector<std::string>& argv) {
   options.progress = [quiet](const std::string& line) {
     if (!quiet) std::fprintf(stderr, "vktg: %s\n", line.c_str());
   };
-  installInterruptHandlers();
   auto context = makeContext(args);
   try {
     OptimizeSummary summary = optimize(*context, options);

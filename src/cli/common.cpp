@@ -11,7 +11,8 @@
 namespace vktg::cli {
 
 std::vector<OptionSpec> deviceOptions() {
-  return {{"--device", "D", "Vulkan device: index or name substring from `vktg info` (default: a GPU, else lavapipe)"},
+  return {{"--device", "D",
+           "Vulkan device: index or name substring from `vktg info`, or gpu (default: $VKTG_DEVICE, else a GPU, else lavapipe)"},
           {"--mem", "MIB", "memory budget for wavefront state and film in MiB (default 512)"},
           {"--quiet", "", "no progress or summary on stderr"},
           {"--help", "", "show this help"}};
@@ -28,10 +29,8 @@ std::vector<OptionSpec> sceneOverrideOptions() {
 }
 
 std::unique_ptr<VulkanContext> makeContext(const ParsedArgs& args) {
-  ContextOptions options;
-  options.device = args.get("--device").value_or("");
-  const char* validation = std::getenv("VKTG_VALIDATION");
-  options.validation = validation && std::string(validation) == "1";
+  ContextOptions options = contextOptionsFromEnvironment();
+  if (auto device = args.get("--device")) options.device = *device;
   return std::make_unique<VulkanContext>(options);
 }
 

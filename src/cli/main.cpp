@@ -1,5 +1,7 @@
 // vktg: a differentiable time-gated renderer. Dispatches to the subcommands and turns every
-// error into one `vktg: error: ...` line and a non-zero exit status.
+// error into one `vktg: error: ...` line and a non-zero exit status. SIGINT and SIGTERM stop a
+// run at the next safe point (host/interrupt.h) with nothing written; the exit status is then
+// 128 + the signal number, as if the signal had ended the process.
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -7,6 +9,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "host/interrupt.h"
 #include "host/vk_check.h"
 #include "vktg/error.h"
 
@@ -46,10 +49,14 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::vector<std::string> args(argv + 2, argv + argc);
+  vktg::installInterruptHandlers();
   for (const auto& c : kSubcommands) {
     if (command != c.name) continue;
     try {
       return c.run(args);
+    } catch (const vktg::Interrupted& e) {
+      std::fprintf(stderr, "vktg: error: %s\n", e.what());
+      return 128 + e.signal();
     } catch (const vktg::cli::UsageError& e) {
       std::fprintf(stderr, "vktg: error: %s\n(see `vktg %s --help`)\n", e.what(), c.name);
       return 2;

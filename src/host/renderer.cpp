@@ -7,6 +7,7 @@
 
 #include "host/frame_uniforms.h"
 #include "host/interrupt.h"
+#include "host/memory_preflight.h"
 #include "host/pass_pipelines.h"
 #include "host/pass_profiler.h"
 #include "host/wavefront.h"
@@ -175,11 +176,6 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   // kFilmFloatsPerElement floats per element (shift, compensated sums; see shared.h).
   const uint64_t filmFloats = std::max<uint64_t>(gpu::kFilmFloatsPerElement, gpu::kFilmFloatsPerElement * filmElements);
   const uint64_t filmBytes = filmFloats * sizeof(float);
-  if (filmBytes + gpuScene.bytes >= options.memoryBudget)
-    throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the film (" +
-                std::to_string(filmBytes >> 20) + " MiB) and the scene (" + std::to_string(gpuScene.bytes >> 20) +
-                " MiB); raise it");
-  ChunkedBuffer& film = m_impl->filmFor(filmFloats);
   const Buffer* edgeBuffer = nullptr;
   if (edges) {
     const size_t vertexCount = prepared.vertices.size();
@@ -206,9 +202,16 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
                                             key.shadowAdjoint ? gpu::kShadowRaysPerPath * sizeof(gpu::ShadowAdjoint) : 0,
                                             key.edgeRecords ? sizeof(gpu::EdgeRecord) : 0});
   const uint64_t edgeBytes = edgeBuffer ? edgeBuffer->size() : 0;
-  if (filmBytes + gpuScene.bytes + edgeBytes >= options.memoryBudget)
-    throw Error("--mem: " + std::to_string(options.memoryBudget >> 20) + " MiB cannot hold the scene's edges; raise it");
-  key.batchSize = batchSizeFor(options.memoryBudget - filmBytes - gpuScene.bytes - edgeBytes, layers, lanes,
+  // Fail before the film is allocated, naming what the render would need.
+  RenderMemory need;
+  need.film = filmBytes;
+  need.scene = gpuScene.bytes + edgeBytes;
+  need.smallestBatch = wavefrontBytesPerPath(layers, lanes, extra) * gpu::kWorkgroupSize;
+  need.filmShape = std::to_string(width) + " x " + std::to_string(height) + " pixels x " + std::to_string(layers) +
+                   " layers x " + std::to_string(channels) + " channels";
+  const uint64_t budget = checkRenderMemory(context, need, options.memoryBudget);
+  ChunkedBuffer& film = m_impl->filmFor(filmFloats);
+  key.batchSize = batchSizeFor(budget - filmBytes - gpuScene.bytes - edgeBytes, layers, lanes,
                                context.properties().limits.maxStorageBufferRange, totalPaths * slotsPerSample,
                                context.properties().limits.maxComputeWorkGroupCount[0], extra);
   const uint32_t batchSize = key.batchSize;
@@ -398,6 +401,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
     done += active;
     result.stats.batches++;
     if (options.progress) options.progress(double(done) / double(totalPaths));
+    throwIfInterrupted();
   }
   if (resolve != VK_NULL_HANDLE) {
     cmdBuffer.begin();

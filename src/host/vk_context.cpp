@@ -1,6 +1,7 @@
 #include "host/vk_context.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <utility>
 
@@ -153,7 +154,34 @@ std::string lower(std::string s) {
   return s;
 }
 
+// The usable device a plain choice prefers (a discrete GPU first, lavapipe last); with
+// `gpuOnly`, CPU implementations are not candidates. -1 if none.
+int preferredDevice(const std::vector<VkPhysicalDevice>& devices, const std::vector<DeviceReport>& reports,
+                    bool gpuOnly) {
+  int chosen = -1;
+  VkPhysicalDeviceType chosenType = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  for (uint32_t i = 0; i < devices.size(); ++i) {
+    if (!reports[i].usable) continue;
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(devices[i], &p);
+    if (gpuOnly && p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) continue;
+    if (chosen < 0 || typeRank(p.deviceType) < typeRank(chosenType)) {
+      chosen = int(i);
+      chosenType = p.deviceType;
+    }
+  }
+  return chosen;
+}
+
 }  // namespace
+
+ContextOptions contextOptionsFromEnvironment() {
+  ContextOptions options;
+  if (const char* device = std::getenv("VKTG_DEVICE")) options.device = device;
+  const char* validation = std::getenv("VKTG_VALIDATION");
+  options.validation = validation && std::string(validation) == "1";
+  return options;
+}
 
 std::vector<DeviceReport> VulkanContext::listDevices() {
   VkInstance instance = createInstance(false, false);
@@ -197,16 +225,11 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     for (uint32_t i = 0; i < devices.size(); ++i) reports.push_back(describeDevice(devices[i], i));
     int chosen = -1;
     if (options.device.empty()) {
-      for (uint32_t i = 0; i < devices.size(); ++i) {
-        if (!reports[i].usable) continue;
-        VkPhysicalDeviceProperties p;
-        vkGetPhysicalDeviceProperties(devices[i], &p);
-        if (chosen < 0) { chosen = int(i); continue; }
-        VkPhysicalDeviceProperties best;
-        vkGetPhysicalDeviceProperties(devices[size_t(chosen)], &best);
-        if (typeRank(p.deviceType) < typeRank(best.deviceType)) chosen = int(i);
-      }
+      chosen = preferredDevice(devices, reports, false);
       if (chosen < 0) throw Error("no usable Vulkan device (see `vktg info` for what each device lacks)");
+    } else if (options.device == "gpu") {
+      chosen = preferredDevice(devices, reports, true);
+      if (chosen < 0) throw Error("--device gpu: no usable GPU (see `vktg info` for the devices and what they lack)");
     } else {
       bool numeric = std::all_of(options.device.begin(), options.device.end(), ::isdigit);
       for (uint32_t i = 0; i < devices.size() && chosen < 0; ++i) {
@@ -257,6 +280,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
 VulkanContext::~VulkanContext() { release(); }
 
 void VulkanContext::release() {
+  if (m_stuck) return;
   if (m_device) {
     vkDeviceWaitIdle(m_device);
     if (m_commandPool) vkDestroyCommandPool(m_device, m_commandPool, nullptr);
@@ -314,10 +338,31 @@ void VulkanContext::submitAndWait(VkCommandBuffer cmd) const {
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd;
-  VkResult result = vkQueueSubmit(m_queue, 1, &submit, fence);
-  if (result == VK_SUCCESS) result = vkWaitForFences(m_device, 1, &fence, VK_TRUE, UINT64_MAX);
+  VkResult result = m_faults.nextSubmission();
+  const bool injected = result != VK_SUCCESS;
+  if (!injected) result = vkQueueSubmit(m_queue, 1, &submit, fence);
+  if (result == VK_SUCCESS) result = vkWaitForFences(m_device, 1, &fence, VK_TRUE, kFenceTimeoutNs);
+  if (result == VK_TIMEOUT) {
+    // The fence may still be signalled later: destroying it (or anything the work uses) now would
+    // be undefined, so it is left for the process exit. An injected timeout submitted nothing.
+    if (!injected) m_stuck = true;
+    else vkDestroyFence(m_device, fence, nullptr);
+    throw DeviceFault(m_report.name + ": a GPU submission did not finish within " +
+                      std::to_string(kFenceTimeoutNs / 1000000000) +
+                      " s (fence timeout); the device is stuck or the batch is far too large (a smaller --mem "
+                      "makes smaller batches)");
+  }
   vkDestroyFence(m_device, fence, nullptr);
+  if (result == VK_ERROR_DEVICE_LOST)
+    throw DeviceFault(m_report.name + ": the Vulkan device was lost (VK_ERROR_DEVICE_LOST): the driver reset it "
+                      "after a fault or a kernel that ran too long; nothing of this run can be trusted");
   VKTG_VK_CHECK(result);
+}
+
+VkResult VulkanContext::allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory) const {
+  VkResult injected = m_faults.nextAllocation();
+  if (injected != VK_SUCCESS) return injected;
+  return vkAllocateMemory(m_device, &info, nullptr, memory);
 }
 
 std::vector<std::string> VulkanContext::takeValidationMessages() {

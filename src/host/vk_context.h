@@ -2,6 +2,7 @@
 // object names, labels). Headless: no surface or window-system extension is ever requested.
 #pragma once
 #include <atomic>
+#include <cstdlib>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -9,14 +10,21 @@
 
 #include <vulkan/vulkan.h>
 
+#include "host/fault_injection.h"
+#include "vktg/error.h"
 #include "vktg/gpu/shared.h"
 
 namespace vktg {
 
 struct ContextOptions {
-  std::string device;       // "" = best available; a number = index in `vktg info`; else a name substring
+  // "" = best available; "gpu" = best usable non-CPU device; a number = index in `vktg info`;
+  // else a name substring
+  std::string device;
   bool validation = false;  // Khronos validation layer; every message is recorded (and fails tests)
 };
+
+// Options from the environment: VKTG_DEVICE (the default for --device) and VKTG_VALIDATION=1.
+ContextOptions contextOptionsFromEnvironment();
 
 // What `vktg info` prints about one physical device.
 struct DeviceReport {
@@ -38,6 +46,16 @@ struct DeviceReport {
   bool subgroupArithmetic = false;
   bool int64Atomics = false;
 };
+
+// The device failed underneath a run: memory exhausted, device lost, a submission that never
+// finished. The message says what happened and what to try.
+class DeviceFault : public Error {
+ public:
+  using Error::Error;
+};
+
+// How long one submission may run before it counts as stuck (batches are sized to take seconds).
+inline constexpr uint64_t kFenceTimeoutNs = 600ull * 1000 * 1000 * 1000;
 
 class VulkanContext {
  public:
@@ -63,8 +81,11 @@ class VulkanContext {
   void beginLabel(VkCommandBuffer cmd, const char* name) const;
   void endLabel(VkCommandBuffer cmd) const;
 
-  // Submits and blocks until the GPU is done.
+  // Submits and blocks until the GPU is done; a lost device or a submission still running after
+  // kFenceTimeoutNs throws DeviceFault.
   void submitAndWait(VkCommandBuffer cmd) const;
+  // vkAllocateMemory (with VKTG_INJECT_FAULT's allocation faults).
+  VkResult allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory) const;
 
   // Validation messages recorded so far (warnings and errors); tests fail on any.
   std::vector<std::string> takeValidationMessages();
@@ -91,6 +112,10 @@ class VulkanContext {
   PFN_vkSetDebugUtilsObjectNameEXT m_setName = nullptr;
   PFN_vkCmdBeginDebugUtilsLabelEXT m_beginLabel = nullptr;
   PFN_vkCmdEndDebugUtilsLabelEXT m_endLabel = nullptr;
+  mutable FaultInjection m_faults{std::getenv("VKTG_INJECT_FAULT")};
+  // A submission never finished: the device may still be using everything, so it is not waited
+  // for or destroyed (the process ends with it).
+  mutable bool m_stuck = false;
   std::mutex m_messageMutex;
   std::vector<std::string> m_messages;
   std::atomic<uint64_t> m_messageCount{0};

@@ -31,9 +31,14 @@ Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind,
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex = context.findMemoryType(req.memoryTypeBits, flags);
-  VkResult result = vkAllocateMemory(m_device, &alloc, nullptr, &m_memory);
+  VkResult result = context.allocateMemory(alloc, &m_memory);
   if (result != VK_SUCCESS) {
     reset();
+    if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
+      throw DeviceFault(context.report().name + ": out of " +
+                        (result == VK_ERROR_OUT_OF_DEVICE_MEMORY ? "device" : "host") + " memory allocating '" + name +
+                        "' (" + std::to_string((req.size + (1u << 20) - 1) >> 20) +
+                        " MiB); lower --mem, the resolution, the bins or the parameters per block");
     VKTG_VK_CHECK(result);
   }
   VKTG_VK_CHECK(vkBindBufferMemory(m_device, m_buffer, m_memory, 0));

@@ -420,7 +420,8 @@ class ExperimentParser {
     std::set<std::string> used;
     for (const auto& [group, path] : m_groupFields) {
       used.insert(group);
-      const bool defined = std::any_of(rates.begin(), rates.end(), [&](const auto& r) { return r.first == group; });
+      const std::string& name = group;  // clang before 16 cannot capture a structured binding
+      const bool defined = std::any_of(rates.begin(), rates.end(), [&](const auto& r) { return r.first == name; });
       if (group != "default" && !defined)
         vktg::fail(m_file, path, "unknown group " + inQuotes(group) + " (define its learning rate in optimizer.groups)");
     }

@@ -1,15 +1,27 @@
 // Binned-SAH BVH build in the GPU node layout and the CPU reference traversal.
 //
-// Why traversal equals brute force for every ray: Möller–Trumbore's t (and hit decision) can be
-// far off for grazing rays, so a box test alone could cull a box whose triangle MT "hits". The
-// triangle test therefore also requires t to lie inside the slab interval of the triangle's own
-// padded box (trianglePaddedBox), computed with exactly the slab arithmetic the traversal applies
-// to node boxes. Node boxes are unions of those padded boxes, and every step of the slab test
-// (subtract, multiply by the same inverse direction, select, min/max, widen) is monotone under
-// IEEE rounding, so a node's interval always contains the interval of every triangle below it:
-// a node holding an accepted hit is never culled. Ties in t are broken by the smaller triangle
-// index, which makes the closest hit independent of the visiting order.
-// The same arithmetic is in shaders/lib/intersect.glsl (marked `precise` there, no FMA).
+// Triangle test: watertight (Woop, Benthin, Wald 2013). The ray is made the z axis of a sheared
+// frame in which the three edge functions of a shared edge are exact negatives of each other, so
+// a ray through an edge or a vertex never falls between two triangles. The shear is scaled by the
+// direction's largest component instead of divided by it, so nothing before the hit distance
+// divides: every decision is made from correctly rounded +, - and *, the same bits here and on
+// any Vulkan device (the GLSL twin in shaders/lib/intersect.glsl is `precise`; this file is built
+// without contraction).
+//
+// Why traversal equals brute force for every ray: the triangle test also requires t to lie inside
+// the slab interval of the triangle's own padded box (trianglePaddedBox), computed with exactly the
+// slab arithmetic the traversal applies to node boxes. Node boxes are unions of those padded
+// boxes, and every step of the slab test (subtract, multiply by the same inverse direction,
+// select, min/max, widen) is monotone under IEEE rounding, so a node's interval always contains
+// the interval of every triangle below it: a node holding an accepted hit is never culled. Ties in
+// t are broken by the smaller triangle index, which makes the closest hit independent of the
+// visiting order.
+//
+// Hit distance: the test's t comes from coordinates relative to the ray origin, so its error
+// grows with the triangle's distance from the origin (half a millimetre for a 1e4 m triangle). The
+// reported t is therefore refined: the ray is re-intersected with the triangle's plane in
+// double-float arithmetic (vktg/double_float.h), which leaves about one ulp of t
+// (docs/precision.md states and measures the bound).
 #include "vktg/bvh.h"
 
 #include <algorithm>
@@ -19,6 +31,7 @@
 #include <limits>
 #include <string>
 
+#include "vktg/double_float.h"
 #include "vktg/error.h"
 
 namespace vktg {
@@ -27,15 +40,15 @@ namespace {
 // Direction components smaller than this are replaced (keeping the sign) before inverting, so the
 // inverse is finite and non-zero and the slab test never evaluates 0 * inf.
 constexpr float kTinyDirection = 1e-30f;
-// Relative widening of slab intervals in t: covers the rounding of MT's t relative to the slab
-// t of the same point (errors proportional to the distance travelled).
+// Relative widening of slab intervals in t: covers the rounding of the test's t relative to the
+// slab t of the same point (errors proportional to the distance travelled).
 constexpr float kSlabWiden = 1.0f / 8192.0f;
-// Triangle boxes are padded by this fraction of their largest extent: covers MT errors
-// proportional to the triangle's size (hit point far from p0).
+// Triangle boxes are padded by this fraction of their largest extent: covers errors of the test's
+// t proportional to the triangle's size and distance.
 constexpr float kPadRelative = 1.0f / 4096.0f;
-// Rays closer to a triangle's plane than this (|det| relative to the product of the infinity norms
-// of both edges and the direction, i.e. roughly the sine of the grazing angle) miss: below it the
-// determinant is rounding noise.
+// Rays closer to a triangle's plane than this (|d . n| relative to the product of the infinity
+// norms of both edges and the direction, i.e. roughly the sine of the grazing angle) miss: below
+// it the hit distance is rounding noise.
 constexpr float kDetRelative = 1e-6f;
 
 struct Box {
@@ -62,6 +75,7 @@ Box trianglePaddedBox(const BvhTriangle& tri) {
 
 struct PreparedRay {
   glm::vec3 origin, dir, invDir;
+  int kx, ky, kz;  // kz: the direction's largest component (the first of equals); kx, ky follow it
 };
 
 PreparedRay prepareRay(glm::vec3 origin, glm::vec3 dir) {
@@ -71,7 +85,9 @@ PreparedRay prepareRay(glm::vec3 origin, glm::vec3 dir) {
     if (!(std::fabs(d) >= kTinyDirection)) d = std::signbit(d) ? -kTinyDirection : kTinyDirection;
     inv[i] = 1.0f / d;
   }
-  return {origin, dir, inv};
+  glm::vec3 a = glm::abs(dir);
+  int kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+  return {origin, dir, inv, (kz + 1) % 3, (kz + 2) % 3, kz};
 }
 
 float widenDown(float t) { return t * (t >= 0.0f ? 1.0f - kSlabWiden : 1.0f + kSlabWiden); }
@@ -95,29 +111,58 @@ glm::vec2 slabInterval(glm::vec3 lo, glm::vec3 hi, const PreparedRay& ray) {
 float maxAbs(glm::vec3 v) { return std::max(std::max(std::fabs(v.x), std::fabs(v.y)), std::fabs(v.z)); }
 
 std::optional<RayHit> intersectPrepared(const BvhTriangle& tri, const PreparedRay& ray, float tMin, float tMax) {
-  glm::vec3 e1 = tri.p1 - tri.p0;
-  glm::vec3 e2 = tri.p2 - tri.p0;
-  glm::vec3 pv = glm::cross(ray.dir, e2);
-  float det = glm::dot(e1, pv);
-  // Negated comparison so a NaN determinant misses too.
-  if (!(std::fabs(det) > kDetRelative * maxAbs(e1) * maxAbs(e2) * maxAbs(ray.dir))) return std::nullopt;
-  float invDet = 1.0f / det;
-  glm::vec3 s = ray.origin - tri.p0;
-  float u = glm::dot(s, pv) * invDet;
-  if (!(u >= 0.0f && u <= 1.0f)) return std::nullopt;
-  glm::vec3 q = glm::cross(s, e1);
-  float v = glm::dot(ray.dir, q) * invDet;
-  if (!(v >= 0.0f && u + v <= 1.0f)) return std::nullopt;
-  float t = glm::dot(e2, q) * invDet;
+  const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
+  const float dx = ray.dir[kx], dy = ray.dir[ky], dz = ray.dir[kz];
+  const glm::vec3 a = tri.p0 - ray.origin, b = tri.p1 - ray.origin, c = tri.p2 - ray.origin;
+  // Vertices in the sheared frame, scaled by dz: (dz x - dx z, dz y - dy z).
+  auto shear = [&](glm::vec3 p) { return glm::vec2(dz * p[kx] - dx * p[kz], dz * p[ky] - dy * p[kz]); };
+  const glm::vec2 as = shear(a), bs = shear(b), cs = shear(c);
+  // Edge functions, each the (scaled) barycentric weight of the opposite vertex.
+  const float w0 = cs.x * bs.y - cs.y * bs.x;
+  const float w1 = as.x * cs.y - as.y * cs.x;
+  const float w2 = bs.x * as.y - bs.y * as.x;
+  if ((w0 < 0.0f || w1 < 0.0f || w2 < 0.0f) && (w0 > 0.0f || w1 > 0.0f || w2 > 0.0f)) return std::nullopt;
+  // det = dz (d . n): negated comparison so a NaN misses too.
+  const float det = w0 + w1 + w2;
+  const glm::vec3 e1 = tri.p1 - tri.p0, e2 = tri.p2 - tri.p0;
+  if (!(std::fabs(det) > kDetRelative * maxAbs(e1) * maxAbs(e2) * (dz * dz))) return std::nullopt;
+  const float scaledT = w0 * a[kz] + w1 * b[kz] + w2 * c[kz];
+  const float t = scaledT / (det * dz);
   if (!(t > tMin && t < tMax)) return std::nullopt;
   Box box = trianglePaddedBox(tri);
   glm::vec2 slab = slabInterval(box.lo, box.hi, ray);
   if (!(t >= slab.x && t <= slab.y)) return std::nullopt;
   RayHit hit;
   hit.t = t;
-  hit.u = u;
-  hit.v = v;
+  hit.u = w1 / det;
+  hit.v = w2 / det;
   return hit;
+}
+
+// The distance along the ray to the triangle's plane, (p0 - o) . n / (d . n) with n = e1 x e2, in
+// double-float arithmetic: differences of floats are exact there and products lose about 2^-48,
+// so the result is the float nearest the exact distance within about an ulp (docs/precision.md).
+float refinedHitDistance(const BvhTriangle& tri, glm::vec3 origin, glm::vec3 dir, float t) {
+  DoubleFloat e1[3], e2[3], a[3];
+  for (int i = 0; i < 3; ++i) {
+    e1[i] = twoSum(tri.p1[i], -tri.p0[i]);
+    e2[i] = twoSum(tri.p2[i], -tri.p0[i]);
+    a[i] = twoSum(tri.p0[i], -origin[i]);
+  }
+  DoubleFloat n[3];
+  for (int i = 0; i < 3; ++i) {
+    int j = (i + 1) % 3, k = (i + 2) % 3;
+    n[i] = dfAdd(dfMul(e1[j], e2[k]), dfNegate(dfMul(e1[k], e2[j])));
+  }
+  DoubleFloat numerator, denominator;
+  for (int i = 0; i < 3; ++i) {
+    numerator = dfAdd(numerator, dfMul(a[i], n[i]));
+    denominator = dfAdd(denominator, dfMul({dir[i], 0.0f}, n[i]));
+  }
+  // A plane the test accepted has d . n well away from 0; keep t if rounding says otherwise.
+  if (!(std::fabs(denominator.hi) > 0.0f)) return t;
+  float refined = dfDivide(numerator, denominator);
+  return std::isfinite(refined) ? refined : t;
 }
 
 bool closer(const RayHit& a, const RayHit& b) { return a.t < b.t || (a.t == b.t && a.triangle < b.triangle); }
@@ -393,6 +438,7 @@ std::optional<RayHit> traverse(const Bvh& bvh, std::span<const BvhTriangle> tria
     if (size == 0) break;
     node = stack[--size];
   }
+  if (best) best->t = refinedHitDistance(triangles[best->triangle], origin, dir, best->t);
   return best;
 }
 
@@ -484,7 +530,9 @@ Bvh buildBvh(std::span<const BvhTriangle> triangles, const BvhBuildOptions& opti
 
 std::optional<RayHit> intersectTriangle(const BvhTriangle& tri, glm::vec3 origin, glm::vec3 dir, float tMin,
                                         float tMax) {
-  return intersectPrepared(tri, prepareRay(origin, dir), tMin, tMax);
+  std::optional<RayHit> hit = intersectPrepared(tri, prepareRay(origin, dir), tMin, tMax);
+  if (hit) hit->t = refinedHitDistance(tri, origin, dir, hit->t);
+  return hit;
 }
 
 std::optional<RayHit> traceClosest(const Bvh& bvh, std::span<const BvhTriangle> triangles, glm::vec3 origin,
@@ -507,6 +555,7 @@ std::optional<RayHit> traceClosestBruteForce(std::span<const BvhTriangle> triang
     hit->triangle = static_cast<uint32_t>(i);
     if (!best || closer(*hit, *best)) best = hit;
   }
+  if (best) best->t = refinedHitDistance(triangles[best->triangle], origin, dir, best->t);
   return best;
 }
 

@@ -162,6 +162,30 @@ inline LayerEstimate term(const TermImages& t, size_t parameter, uint32_t layer 
 // disk (radius 2 > sqrt(1.6^2 - 1)), so the infinite-plane closed forms hold.
 inline constexpr double kBoxA = 2.4, kBoxB = 3.2;
 
+// The confocal box scene with a truncated gaussian gate (mu, sigma) on its support [kBoxA, kBoxB].
+inline Scene truncatedGaussianScene(double mu, double sigma, uint32_t spp, uint32_t seed) {
+  Scene scene = confocalBoxScene(kBoxA, kBoxB, spp, seed);
+  scene.gate.type = GateType::TruncatedGaussian;
+  scene.gate.mu = mu;
+  scene.gate.sigma = sigma;
+  return scene;
+}
+
+// Its exact derivatives along t and c: the double-precision quadrature of M (test_scenes.h)
+// differentiated by a central difference of step 1e-3 (error ~1e-7 relative: exact here).
+struct TruncatedGaussianDerivatives {
+  double dt, dc;
+};
+inline TruncatedGaussianDerivatives truncatedGaussianDerivatives(double mu, double sigma) {
+  auto response = [&](double h, double shift) {
+    auto w = [&](double len) { return std::exp(-0.5 * std::pow((len - mu - shift) / sigma, 2.0)); };
+    return confocalGated(h, kRho, kIntensity, w, kBoxA + shift, kBoxB + shift);
+  };
+  constexpr double kStep = 1e-3;
+  return {-(response(kHeight + kStep, 0) - response(kHeight - kStep, 0)) / (2 * kStep),
+          (response(kHeight, kStep) - response(kHeight, -kStep)) / (2 * kStep)};
+}
+
 }  // namespace boundary
 
 }  // namespace vktg::test

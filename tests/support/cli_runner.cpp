@@ -1,4 +1,6 @@
 #include "support/cli_runner.h"
+
+#include "support/file_permissions.h"
 #include "support/test_environment.h"
 
 #include <fcntl.h>
@@ -82,6 +84,7 @@ CliResult runVktg(const std::vector<std::string>& args, const CliOptions& option
     int devNull = open("/dev/null", O_RDONLY);
     if (devNull >= 0) dup2(devNull, STDIN_FILENO);
     if (!cwd.empty() && chdir(cwd.c_str()) != 0) _exit(126);
+    if (options.enforcePermissions && !dropFileOverrideForExec()) _exit(125);
     execve(argvPointers[0], argvPointers.data(), envPointers.data());
     _exit(127);
   }
@@ -174,6 +177,18 @@ std::vector<std::string> TempDir::entries() const {
   for (const auto& entry : fs::directory_iterator(m_path)) names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
+}
+
+std::map<std::string, std::string> directorySnapshot(const TempDir& dir) {
+  std::map<std::string, std::string> state;
+  for (const auto& entry : fs::recursive_directory_iterator(dir.path())) {
+    const std::string name = fs::relative(entry.path(), dir.path()).string();
+    std::error_code error;
+    if (entry.is_symlink()) state[name] = "<symlink to " + fs::read_symlink(entry.path()).string() + ">";
+    else if (entry.is_regular_file(error) && ::access(entry.path().c_str(), R_OK) == 0) state[name] = readFileBytes(entry.path());
+    else state[name] = "<not read>";
+  }
+  return state;
 }
 
 std::string readFileBytes(const fs::path& path) {

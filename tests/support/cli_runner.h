@@ -30,6 +30,9 @@ struct CliOptions {
   // a user's Ctrl-C would.
   std::string signalWhen;
   int signal = 2;  // SIGINT
+  // The child runs without root's permission override (support/file_permissions.h), so
+  // permission-denied cases hold as root too; check canDropFileOverrideForExec() first.
+  bool enforcePermissions = false;
 };
 
 // Runs VKTG_BINARY with `args`. The child always runs with VKTG_VALIDATION=1 (so a validation
@@ -56,6 +59,10 @@ class TempDir {
  private:
   std::filesystem::path m_path;
 };
+
+// Every regular file under `dir` with its bytes, and every other entry by name: equal snapshots
+// before and after a run mean it created or changed nothing.
+std::map<std::string, std::string> directorySnapshot(const TempDir& dir);
 
 std::string readFileBytes(const std::filesystem::path& path);
 void writeFileBytes(const std::filesystem::path& path, const std::string& bytes);

@@ -114,4 +114,19 @@ FloatScale floatScale(const ScalarFunction& f, const std::vector<double>& x, con
   return s;
 }
 
+double valueFloatScale(const ScalarFunction& f, const std::vector<double>& x, const std::vector<bool>& frozen,
+                       uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const double delta = std::ldexp(1.0, -20);
+  const double base = f(x);
+  double conditioning = 0.0;
+  for (int trial = 0; trial < 2; ++trial) {
+    std::vector<double> y = x;
+    for (size_t i = 0; i < x.size(); ++i)
+      if (!frozen[i]) y[i] *= 1.0 + ((rng() & 1) ? delta : -delta);
+    conditioning = std::max(conditioning, std::abs(f(y) - base) / delta);
+  }
+  return std::abs(base) + conditioning;
+}
+
 }  // namespace vktg::test

@@ -72,4 +72,12 @@ struct FloatScale {
 FloatScale floatScale(const ScalarFunction& f, const std::vector<double>& x, const std::vector<double>& tangent,
                       const std::vector<int>& groups, const std::vector<bool>& frozen, double h, uint64_t seed);
 
+// The float error scale of a value f(x) computed in float32: |f| plus the change of f per unit
+// relative perturbation of the non-frozen inputs (two random sign patterns of relative size
+// 2^-20), the same measure as FloatScale's conditioning, for the value instead of the derivative.
+// A chain of N operations errs by at most about N u times it, whatever the compiler fuses or
+// reorders: a fused multiply-add rounds once where a multiply and an add round twice.
+double valueFloatScale(const ScalarFunction& f, const std::vector<double>& x, const std::vector<bool>& frozen,
+                       uint64_t seed);
+
 }  // namespace vktg::test

@@ -2,49 +2,76 @@
 
 #include "support/test_environment.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 namespace vktg::test {
 namespace {
 
-std::unique_ptr<VulkanContext>& contextSlot() {
-  static std::unique_ptr<VulkanContext> context;
-  return context;
+struct SharedGpu {
+  std::unique_ptr<VulkanContext> context;
+  std::vector<std::function<void()>> dependents;
+
+  void release() {
+    while (!dependents.empty()) {
+      std::function<void()> destroy = std::move(dependents.back());
+      dependents.pop_back();
+      destroy();
+    }
+    context.reset();
+  }
+
+  ~SharedGpu() {
+    if (!context) return;
+    std::fprintf(stderr, "test support: the Vulkan test context outlived the test program (destroying it now "
+                         "would run after the driver's exit handlers)\n");
+    std::abort();
+  }
+};
+
+SharedGpu& shared() {
+  static SharedGpu gpu;
+  return gpu;
 }
 
 // Turns validation messages into test failures, attributed to the test that caused them.
 class ValidationListener : public ::testing::EmptyTestEventListener {
   void OnTestEnd(const ::testing::TestInfo&) override {
-    auto& context = contextSlot();
+    auto& context = shared().context;
     if (!context) return;
     for (const std::string& message : context->takeValidationMessages())
       ADD_FAILURE() << "Vulkan validation message: " << message;
   }
 };
 
-const bool kListenerInstalled = [] {
+// Global environments are torn down at the end of RUN_ALL_TESTS, i.e. before main returns.
+class ReleaseGpuAtEnd : public ::testing::Environment {
+  void TearDown() override { shared().release(); }
+};
+
+const bool kHooksInstalled = [] {
   ::testing::UnitTest::GetInstance()->listeners().Append(new ValidationListener);
+  ::testing::AddGlobalTestEnvironment(new ReleaseGpuAtEnd);
   return true;
 }();
 
 }  // namespace
 
 VulkanContext& testContext() {
-  auto& context = contextSlot();
+  auto& context = shared().context;
   if (!context) {
     applyTestEnvironment();
-    ContextOptions options;
-    const char* validation = std::getenv("VKTG_VALIDATION");
-    options.validation = validation && std::string(validation) == "1";
-    if (const char* device = std::getenv("VKTG_TEST_DEVICE")) options.device = device;
-    context = std::make_unique<VulkanContext>(options);
+    context = std::make_unique<VulkanContext>(contextOptionsFromEnvironment());
   }
-  (void)kListenerInstalled;
+  (void)kHooksInstalled;
   return *context;
 }
+
+void destroyBeforeTestContext(std::function<void()> destroy) { shared().dependents.push_back(std::move(destroy)); }
 
 }  // namespace vktg::test

@@ -19,9 +19,10 @@ RenderResult renderInTest(const Scene& scene, const RenderOptions& options = {})
 // may be all zeros for an exact reference). Returns the number of pixels whose |z| exceeds the
 // Sidak-corrected threshold for `alpha` over all pixels tested, and writes a description of the
 // worst pixel to `worst`. Pixels where both variances are zero must agree exactly.
-// A pixel where one side saw no light at all (mean 0 with variance 0) while the other did is
-// untestable: an all-zero sample mean has no variance estimate. Such pixels are skipped and
-// counted (`untestable`); the image-mean comparison still covers them.
+// A pixel where one side saw no light at all (mean 0 with variance 0) while the other did cannot
+// be z-tested as a difference: an all-zero sample mean has no variance estimate. Such pixels are
+// counted (`untestable`) and skipped; callers cap their number (the image-mean comparison covers
+// their values).
 struct ZTestResult {
   size_t tested = 0;
   size_t untestable = 0;

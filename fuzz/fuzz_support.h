@@ -1,0 +1,59 @@
+// What every fuzz target shares: the rule that a bad input may only end in vktg's own errors, and
+// the post-parse step every command runs on a scene.
+#pragma once
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <string>
+
+#include "vktg/error.h"
+#include "vktg/prepared_scene.h"
+#include "vktg/scene.h"
+
+namespace vktg::fuzz {
+
+// Runs `body`; a vktg::Error is the expected way to reject an input, any other exception is a
+// finding (abort, so libFuzzer keeps the input).
+template <class Body>
+void expectOnlyVktgErrors(const Body& body) {
+  try {
+    body();
+  } catch (const vktg::Error&) {
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fuzz: unexpected exception: %s\n", e.what());
+    std::abort();
+  } catch (...) {
+    std::fprintf(stderr, "fuzz: unexpected non-standard exception\n");
+    std::abort();
+  }
+}
+
+// Large but valid scenes (a 4096^2 heightfield) are slow to flatten, not wrong; skip them so the
+// fuzzer's time goes to the parsers. The bound is far above every test and example scene.
+inline void prepareIfSmall(const Scene& scene) {
+  constexpr size_t kMaxTriangles = size_t(1) << 16;
+  if (scene.triangleCount() <= kMaxTriangles) prepareScene(scene);
+}
+
+// A directory only this process writes to, removed when the process exits.
+class TemporaryDirectory {
+ public:
+  TemporaryDirectory() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "vktg-fuzz-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) std::abort();
+    m_path = pattern;
+  }
+  ~TemporaryDirectory() {
+    std::error_code ignored;
+    std::filesystem::remove_all(m_path, ignored);
+  }
+  TemporaryDirectory(const TemporaryDirectory&) = delete;
+  TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
+  const std::filesystem::path& path() const { return m_path; }
+
+ private:
+  std::filesystem::path m_path;
+};
+
+}  // namespace vktg::fuzz

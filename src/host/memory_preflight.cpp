@@ -1,0 +1,31 @@
+#include "host/memory_preflight.h"
+
+#include <algorithm>
+
+#include "vktg/error.h"
+
+namespace vktg {
+namespace {
+
+std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB"; }
+
+std::string breakdown(const RenderMemory& need) {
+  return "film " + mib(need.film) + " for " + need.filmShape + ", scene " + mib(need.scene) + ", smallest batch " +
+         mib(need.smallestBatch);
+}
+
+}  // namespace
+
+uint64_t checkRenderMemory(const VulkanContext& context, const RenderMemory& need, uint64_t budget) {
+  const uint64_t device = context.report().deviceLocalBytes;
+  if (device > 0 && need.total() > device)
+    throw Error("render: needs at least " + mib(need.total()) + " of device memory (" + breakdown(need) + ") but " +
+                context.report().name + " has " + mib(device) +
+                "; lower the resolution, the number of bins or the parameters per block");
+  if (need.total() > budget)
+    throw Error("--mem: " + mib(budget) + " cannot hold this render, which needs at least " + mib(need.total()) + " (" +
+                breakdown(need) + "); raise it");
+  return device > 0 ? std::min(budget, device) : budget;
+}
+
+}  // namespace vktg

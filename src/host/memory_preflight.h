@@ -1,0 +1,25 @@
+// The device memory a render needs, checked before anything large is allocated, so a render
+// that cannot fit fails at once with the budget it would need instead of mid-way with an
+// allocation error.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "host/vk_context.h"
+
+namespace vktg {
+
+struct RenderMemory {
+  uint64_t film = 0;              // bytes of the film (all layers and channels)
+  uint64_t scene = 0;             // bytes of the uploaded scene and edge list
+  uint64_t smallestBatch = 0;     // bytes of wavefront state for one workgroup of paths
+  std::string filmShape;          // "W x H pixels x L layers x C channels", for the message
+  uint64_t total() const { return film + scene + smallestBatch; }
+};
+
+// Throws vktg::Error when `need` exceeds the memory budget (--mem) or the device's device-local
+// memory, naming what it would take. Returns the budget to size batches from: the smaller of the
+// two.
+uint64_t checkRenderMemory(const VulkanContext& context, const RenderMemory& need, uint64_t budget);
+
+}  // namespace vktg
