@@ -84,6 +84,21 @@ const BadExperiment kBad[] = {
 
 INSTANTIATE_TEST_SUITE_P(Table, OptimizeBadInput, testing::ValuesIn(kBad), test::tableCaseName<BadExperiment>);
 
+TEST(OptimizeTooLarge, FailsBeforeTheRunDirectoryWithWhatItNeeds) {
+  // 8 x 8 pixels x 65536 bins: a 64 MiB film, against a 16 MiB budget.
+  TempDir dir;
+  const fs::path file = dir / "experiment.json";
+  test::writeFileBytes(file, experiment(R"("gate": {"spec": "bins:0,0.001,65536"}, "image": {"synthesize": {}})",
+                                        R"({"name": "grey", "initial": 0.3, "truth": 0.2})"));
+  const test::CliResult r = runVktg({"optimize", file.string(), "--out", (dir / "run").string(), "--mem", "16"});
+  ASSERT_TRUE(r.exited) << r.describe();
+  EXPECT_EQ(r.exitCode, 1) << r.describe();
+  for (const std::string part : {file.string(), std::string("targets[0]"), std::string("--mem"),
+                                 std::string("needs at least"), std::string("8 x 8 pixels x 65536 layers")})
+    EXPECT_NE(r.err.find(part), std::string::npos) << "'" << part << "' in " << r.err;
+  EXPECT_FALSE(fs::exists(dir / "run")) << "the run directory was created";
+}
+
 TEST(OptimizeBadRunDirectory, UnwritableOrForeignDirectoriesAreRefused) {
   TempDir dir;
   writeExr(dir / "right.exr", image(8, 8, 1, 0.1f));

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "vktg/error.h"
+#include "vktg/gpu/shared.h"
 
 namespace vktg {
 namespace {
@@ -15,6 +16,16 @@ std::string breakdown(const RenderMemory& need) {
 }
 
 }  // namespace
+
+RenderMemory filmAndBatchNeed(uint32_t width, uint32_t height, uint32_t layers, uint32_t channels, uint32_t lanes,
+                              const ExtraPathState& extra) {
+  RenderMemory need;
+  need.film = uint64_t(width) * height * layers * channels * gpu::kFilmFloatsPerElement * sizeof(float);
+  need.smallestBatch = wavefrontBytesPerPath(layers, lanes, extra) * gpu::kWorkgroupSize;
+  need.filmShape = std::to_string(width) + " x " + std::to_string(height) + " pixels x " + std::to_string(layers) +
+                   " layers x " + std::to_string(channels) + " channels";
+  return need;
+}
 
 uint64_t checkRenderMemory(const VulkanContext& context, const RenderMemory& need, uint64_t budget) {
   const uint64_t device = context.report().deviceLocalBytes;

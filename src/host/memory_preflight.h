@@ -6,6 +6,7 @@
 #include <string>
 
 #include "host/vk_context.h"
+#include "host/wavefront.h"
 
 namespace vktg {
 
@@ -16,6 +17,12 @@ struct RenderMemory {
   std::string filmShape;          // "W x H pixels x L layers x C channels", for the message
   uint64_t total() const { return film + scene + smallestBatch; }
 };
+
+// The film (4 floats per element, see gpu/shared.h) and the smallest batch (one workgroup of
+// paths with `extra` state each) of a width x height render with `layers` gate layers and
+// `channels` channels; the scene is left for the caller to add.
+RenderMemory filmAndBatchNeed(uint32_t width, uint32_t height, uint32_t layers, uint32_t channels, uint32_t lanes,
+                              const ExtraPathState& extra = {});
 
 // Throws vktg::Error when `need` exceeds the memory budget (--mem) or the device's device-local
 // memory, naming what it would take. Returns the budget to size batches from: the smaller of the

@@ -10,6 +10,7 @@
 
 #include "host/gradient.h"
 #include "host/interrupt.h"
+#include "host/memory_preflight.h"
 #include "host/renderer.h"
 #include "opt/experiment.h"
 #include "opt/loss.h"
@@ -164,6 +165,20 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
     } else {
       targets[t] = loadTargetImage(e, t);
     }
+  // A target whose image and smallest batch alone exceed the device or --mem fails here, with what
+  // it would need, before the run directory is touched (the scene comes on top).
+  for (size_t t = 0; t < e.targets.size(); ++t) {
+    const RenderSetup setup = targetSetup(e, t).setup;
+    const bool sensor = setup.camera.type == CameraType::PointSensor;
+    try {
+      checkRenderMemory(context,
+                        filmAndBatchNeed(sensor ? 1 : setup.camera.width, sensor ? 1 : setup.camera.height,
+                                         setup.gate.layers(), 1, 0),
+                        info.memoryBudget);
+    } catch (const Error& tooLarge) {
+      fail(e.source.string(), "targets[" + std::to_string(t) + "]", tooLarge.what());
+    }
+  }
   if (!options.resume) {
     prepareRunDirectory(run, options.force);
     writeFileAtomic(run / "experiment.json", e.text);

@@ -203,12 +203,9 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
                                             key.edgeRecords ? sizeof(gpu::EdgeRecord) : 0});
   const uint64_t edgeBytes = edgeBuffer ? edgeBuffer->size() : 0;
   // Fail before the film is allocated, naming what the render would need.
-  RenderMemory need;
-  need.film = filmBytes;
+  RenderMemory need = filmAndBatchNeed(width, height, layers, channels, lanes, extra);
+  need.film = filmBytes;  // none for an adjoint render
   need.scene = gpuScene.bytes + edgeBytes;
-  need.smallestBatch = wavefrontBytesPerPath(layers, lanes, extra) * gpu::kWorkgroupSize;
-  need.filmShape = std::to_string(width) + " x " + std::to_string(height) + " pixels x " + std::to_string(layers) +
-                   " layers x " + std::to_string(channels) + " channels";
   const uint64_t budget = checkRenderMemory(context, need, options.memoryBudget);
   ChunkedBuffer& film = m_impl->filmFor(filmFloats);
   key.batchSize = batchSizeFor(budget - filmBytes - gpuScene.bytes - edgeBytes, layers, lanes,
