@@ -1,5 +1,6 @@
 // `vktg bench render`: error-versus-time curves of the forward estimators, throughput, time per
 // pass, memory; writes a run directory (CSV, plot, markdown table).
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include "host/bench_bvh.h"
 #include "host/bench_nee.h"
 #include "host/bench_optimize.h"
+#include "host/bench_trace.h"
 #include "host/bench_grad.h"
 #include "host/bench_render.h"
 
@@ -19,7 +21,7 @@ const CommandSpec& benchSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "bench";
-    s.usage = "bench render|grad|optimize|nee|bvh [options]";
+    s.usage = "bench render|grad|optimize|nee|trace|bvh [options]";
     s.description =
         "Measures accuracy versus time: relMSE against an exact (confocal plane) or cached high-sample\n"
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
@@ -32,14 +34,19 @@ const CommandSpec& benchSpec() {
         "lanes, and of a whole iteration of `vktg optimize`. `bench nee`: the cost per path of standard NEE and of\n"
         "ellipsoidal NEE (triangles chosen by BVH descent or by enumeration) in the default room with an n x n\n"
         "heightfield on its floor, as n grows; every point renders until a time budget. Writes bench.csv and\n"
-        "table.md (and plot.png, except nee) into the output directory. `bench bvh`: the median time to build\n"
-        "the BVH of 10^4, 10^5 and 10^6 random triangles (CPU only; prints a table).";
+        "table.md (and plot.png, except nee and trace) into the output directory. `bench trace [SCENE]`: rays per\n"
+        "second of the BVH traversal, closest and any hit, primary and incoherent rays, on SCENE or on the default\n"
+        "room and rooms with heightfields of --sizes, beside Embree on the host's cores when built with it.\n"
+        "`bench bvh`: the median time to build the BVH of 10^4, 10^5 and 10^6 random triangles (CPU only; prints a\n"
+        "table).";
     s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
                  {"--scale", "X", "multiplies every sample count (default 1; 0.25 for a quick look)"},
-                 {"--sizes", "N,N,...", "optimize, nee: heightfield vertices per side (default 11,100,1000; nee 17,257,725)"},
-                 {"--no-path-length", "", "optimize: leave out the path-length-boundary term"}};
+                 {"--sizes", "N,N,...",
+                  "optimize, nee, trace: heightfield vertices per side (default 11,100,1000; nee 17,257,725; trace 257,725)"},
+                 {"--no-path-length", "", "optimize: leave out the path-length-boundary term"},
+                 {"--no-embree", "", "trace: vktg only, even when built with Embree"}};
     for (auto& o : deviceOptions()) s.options.push_back(o);
     s.examples = "  vktg bench render --out runs/bench-render\n  vktg bench render --scale 0.25 --runs 1 --steps 3\n";
     return s;
@@ -69,9 +76,11 @@ int runBench(const std::vector<std::string>& argv) {
     return 0;
   }
   const std::string which = args.positionals.empty() ? "" : args.positionals[0];
-  if (which != "render" && which != "grad" && which != "optimize" && which != "nee" && which != "bvh")
-    throw UsageError(
-        "which benchmark? `vktg bench render`, `vktg bench grad`, `vktg bench optimize`, `vktg bench nee` or `vktg bench bvh`");
+  const std::vector<std::string> benchmarks = {"render", "grad", "optimize", "nee", "trace", "bvh"};
+  if (std::find(benchmarks.begin(), benchmarks.end(), which) == benchmarks.end())
+    throw UsageError("which benchmark? `vktg bench render`, `grad`, `optimize`, `nee`, `trace` or `bvh`");
+  if (which != "trace" && args.positionals.size() > 1)
+    throw UsageError("`vktg bench " + which + "` takes no scene file");
   if (which == "bvh") {
     const uint32_t runs = args.count("--runs", 1, 100).value_or(3);
     std::printf("| triangles | BVH build (median of %u) | nodes |\n| ---: | ---: | ---: |\n", runs);
@@ -103,6 +112,16 @@ int runBench(const std::vector<std::string>& argv) {
     bench.pathLength = !args.has("--no-path-length");
     writeBenchOptimizeReport(benchOptimize(*context, bench), bench, command);
     log("wrote " + options.outDir.string() + "/{bench.csv,plot.png,table.md}");
+    return finishWithValidationCheck(*context, 0);
+  }
+  if (which == "trace") {
+    BenchTraceOptions bench;
+    static_cast<BenchOptions&>(bench) = options;
+    if (args.positionals.size() > 1) bench.scene = args.positionals[1];
+    if (auto sizes = args.get("--sizes")) bench.sizes = parseSizes(*sizes);
+    bench.embree = !args.has("--no-embree");
+    writeBenchTraceReport(benchTrace(*context, bench), bench, command);
+    log("wrote " + options.outDir.string() + "/{bench.csv,table.md}");
     return finishWithValidationCheck(*context, 0);
   }
   if (which == "nee") {

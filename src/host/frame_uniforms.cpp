@@ -15,19 +15,31 @@ float sceneDiagonal(const PreparedScene& prepared) {
   return std::max(glm::length(prepared.boundsMax - prepared.boundsMin), 1e-6f);
 }
 
+float surfaceOffset(const PreparedScene& prepared) {
+  // Offsets must exceed float rounding at the scene's coordinates (ulp ~ 6e-8 of the magnitude).
+  const float magnitude =
+      std::max({glm::length(prepared.boundsMin), glm::length(prepared.boundsMax), sceneDiagonal(prepared)});
+  return 2e-5f * magnitude;
+}
+
+CameraBasis cameraBasis(const Camera& camera) {
+  const glm::vec3 forward = glm::normalize(camera.lookAt - camera.position);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, camera.up));
+  const glm::vec3 up = glm::cross(right, forward);
+  const float tanHalf = std::tan(glm::radians(camera.fovY) * 0.5f);
+  const float aspect = float(camera.width) / float(camera.height);
+  return {forward, right * tanHalf * aspect, up * tanHalf};
+}
+
 gpu::FrameUniforms sceneFrameUniforms(const Camera& cam, const RenderSettings& settings, const PreparedScene& prepared,
                                       const GpuScene& gpuScene) {
   gpu::FrameUniforms f{};
   f.cameraPosition = glm::vec4(cam.position, 0.0f);
   if (cam.type == CameraType::Perspective) {
-    glm::vec3 forward = glm::normalize(cam.lookAt - cam.position);
-    glm::vec3 right = glm::normalize(glm::cross(forward, cam.up));
-    glm::vec3 up = glm::cross(right, forward);
-    float tanHalf = std::tan(glm::radians(cam.fovY) * 0.5f);
-    float aspect = float(cam.width) / float(cam.height);
-    f.cameraForward = glm::vec4(forward, 0.0f);
-    f.cameraRight = glm::vec4(right * tanHalf * aspect, 0.0f);
-    f.cameraUp = glm::vec4(up * tanHalf, 0.0f);
+    const CameraBasis basis = cameraBasis(cam);
+    f.cameraForward = glm::vec4(basis.forward, 0.0f);
+    f.cameraRight = glm::vec4(basis.right, 0.0f);
+    f.cameraUp = glm::vec4(basis.up, 0.0f);
     f.image = glm::uvec4(cam.width, cam.height, settings.spp, settings.seed);
   } else {
     f.cameraForward = glm::vec4(glm::normalize(cam.normal), 0.0f);
@@ -36,9 +48,7 @@ gpu::FrameUniforms sceneFrameUniforms(const Camera& cam, const RenderSettings& s
   f.sceneCounts = glm::uvec4(uint32_t(prepared.triangles.size()), uint32_t(prepared.lights.size()),
                              uint32_t(prepared.shapes.size()), uint32_t(cam.type));
   float diagonal = sceneDiagonal(prepared);
-  // Offsets must exceed float rounding at the scene's coordinates (ulp ~ 6e-8 of the magnitude).
-  float magnitude = std::max({glm::length(prepared.boundsMin), glm::length(prepared.boundsMax), diagonal});
-  f.sceneInfo = glm::vec4(2e-5f * magnitude, diagonal, prepared.totalLightPower,
+  f.sceneInfo = glm::vec4(surfaceOffset(prepared), diagonal, prepared.totalLightPower,
                          std::bit_cast<float>(uint32_t(prepared.vertices.size())));
   f.chunkShift = glm::uvec4(gpuScene.triangles.shift, gpuScene.bvhNodes.shift, 31, 0);
   f.pathInfo = glm::uvec4(settings.rouletteDepth, 0, 1, 0);

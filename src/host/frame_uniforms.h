@@ -17,5 +17,13 @@ void setGateUniforms(gpu::FrameUniforms& frame, const Gate& gate, bool gateCutof
 
 // Scene diagonal and the ray offset used to leave a surface (relative to the scene's scale).
 float sceneDiagonal(const PreparedScene& prepared);
+float surfaceOffset(const PreparedScene& prepared);
+
+// A perspective camera's frame: the ray through image point (u, v) in [0, 1]^2 (v downwards) has
+// the direction forward + (2u - 1) right + (1 - 2v) up (right and up are scaled by the field of view).
+struct CameraBasis {
+  glm::vec3 forward, right, up;
+};
+CameraBasis cameraBasis(const Camera& camera);
 
 }  // namespace vktg
