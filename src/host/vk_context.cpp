@@ -365,6 +365,11 @@ VkResult VulkanContext::allocateMemory(const VkMemoryAllocateInfo& info, VkDevic
   return vkAllocateMemory(m_device, &info, nullptr, memory);
 }
 
+std::vector<std::string> VulkanContext::destroyAndTakeValidationMessages() {
+  release();
+  return takeValidationMessages();
+}
+
 std::vector<std::string> VulkanContext::takeValidationMessages() {
   std::lock_guard lock(m_messageMutex);
   return std::exchange(m_messages, {});

@@ -89,6 +89,10 @@ class VulkanContext {
 
   // Validation messages recorded so far (warnings and errors); tests fail on any.
   std::vector<std::string> takeValidationMessages();
+  // Destroys the device and instance now and returns the messages recorded meanwhile: the
+  // validation layer reports objects never destroyed when the device goes, which no earlier check
+  // can see. The context is unusable afterwards.
+  std::vector<std::string> destroyAndTakeValidationMessages();
   uint64_t validationMessageCount() const { return m_messageCount.load(); }
 
   static std::vector<DeviceReport> listDevices();

@@ -23,6 +23,10 @@ struct SharedGpu {
       dependents.pop_back();
       destroy();
     }
+    if (!context) return;
+    // Objects never destroyed are reported by the validation layer when the device goes.
+    for (const std::string& message : context->destroyAndTakeValidationMessages())
+      ADD_FAILURE() << "Vulkan validation message at teardown: " << message;
     context.reset();
   }
 
