@@ -125,6 +125,16 @@ TEST_F(ImageIo, ExrReadsForeignFileTopRowFirst) {
   EXPECT_EQ(read.layers[1].pixels, red);
 }
 
+// Found by tools/fuzz experiment: 278 bytes whose header declares attributes far larger than the
+// file made OpenEXR allocate over 2 GiB before failing. The header is now checked first.
+TEST_F(ImageIo, ExrHeaderDeclaringMoreThanTheFileHoldsIsRejectedCheaply) {
+  const std::filesystem::path file = std::filesystem::path(VKTG_TEST_DATA) / "fuzz" / "exr-huge-attribute.exr";
+  expectError([&] { vktg::readExr(file); }, {"exr-huge-attribute.exr", "header", "declares"});
+  // A well-formed file still passes the check.
+  vktg::writeExr(m_dir / "ok.exr", vktg::ImageSet{2, 1, {{"", {1, 2}}}});
+  EXPECT_EQ(vktg::readExr(m_dir / "ok.exr").layers.at(0).pixels, (std::vector<float>{1, 2}));
+}
+
 TEST_F(ImageIo, ExrWriteRejectsInconsistentSets) {
   expectError([&] { vktg::writeExr(m_dir / "a.exr", vktg::ImageSet{2, 2, {{"x", {1, 2, 3}}}}); }, {"a.exr", "pixels"});
   expectError([&] { vktg::writeExr(m_dir / "b.exr", vktg::ImageSet{2, 1, {{"x", {1, 2}}, {"x", {3, 4}}}}); },

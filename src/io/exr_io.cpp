@@ -204,12 +204,47 @@ void writeExr(const fs::path& path, const ImageSet& images) {
   writeFileAtomic(path, bytes);
 }
 
+// OpenEXR trusts the sizes a header declares: a few hundred bytes claiming a gigabyte-sized
+// attribute make it allocate that much before it notices the file is short (found by fuzzing).
+// Every attribute (name, type, int32 size, value) must fit in the file; checked before decoding.
+static void checkHeaderSizes(const fs::path& path, const std::string& bytes) {
+  const bool multipart = (uint8_t(bytes[5]) & 0x10) != 0;  // version field bit 12
+  size_t at = 8;
+  auto cString = [&](const char* what) {
+    const size_t end = bytes.find('\0', at);
+    if (end == std::string::npos) fail(path.string(), "header", std::string("truncated in an attribute's ") + what);
+    std::string text = bytes.substr(at, end - at);
+    at = end + 1;
+    return text;
+  };
+  for (;;) {  // headers (one, or a list ended by an empty one for multi-part files)
+    if (at >= bytes.size()) fail(path.string(), "header", "truncated");
+    if (bytes[at] == '\0') {
+      ++at;
+      if (!multipart || (at < bytes.size() && bytes[at] == '\0')) return;
+      continue;
+    }
+    const std::string name = cString("name");
+    cString("type");
+    if (bytes.size() - at < 4) fail(path.string(), "header", "truncated in attribute \"" + name + "\"");
+    uint32_t size = 0;
+    for (int k = 3; k >= 0; --k) size = (size << 8) | uint8_t(bytes[at + size_t(k)]);
+    at += 4;
+    if (size > bytes.size() - at)
+      fail(path.string(), "header", "attribute \"" + name + "\" declares " + std::to_string(size) + " bytes but only " +
+                                        std::to_string(bytes.size() - at) + " remain in the file");
+    at += size;
+  }
+}
+
 ImageSet readExr(const fs::path& path) {
   const std::string bytes = readFileBytes(path);
   if (bytes.empty()) fail(path.string(), "", "not an OpenEXR file (the file is empty)");
   if (bytes.size() < sizeof(kExrMagic) || std::memcmp(bytes.data(), kExrMagic, sizeof(kExrMagic)) != 0) {
     fail(path.string(), "", "not an OpenEXR file (wrong magic number)");
   }
+  if (bytes.size() < 8) fail(path.string(), "header", "truncated");
+  checkHeaderSizes(path, bytes);
   try {
     return decodeExr(path, bytes);
   } catch (const Error&) {
