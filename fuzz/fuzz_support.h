@@ -40,6 +40,7 @@ inline void prepareIfSmall(const Scene& scene) {
 class TemporaryDirectory {
  public:
   TemporaryDirectory() {
+    // mkdtemp's template: it replaces the trailing six X with a unique suffix.
     std::string pattern = (std::filesystem::temp_directory_path() / "vktg-fuzz-XXXXXX").string();
     if (!mkdtemp(pattern.data())) std::abort();
     m_path = pattern;

@@ -26,16 +26,12 @@ constexpr double kTofBound = 0.25, kSteadyRatio = 3.0;
 
 TEST(ExperimentHeightfield, TimeOfFlightRecoversWhatSteadyStateCannot) {
   test::TempDir dir;
-  const std::vector<double> tof =
-      test::experimentParameterErrors(kExperiment / "tof.experiment.json", dir / "tof", kIterations);
-  const std::vector<double> steady =
-      test::experimentParameterErrors(kExperiment / "steady.experiment.json", dir / "steady", kIterations);
-  const double tofFinal = test::medianOfLast10(tof), steadyFinal = test::medianOfLast10(steady);
+  const test::Contrast c = test::runContrast(kExperiment / "tof.experiment.json", kIterations,
+                                             kExperiment / "steady.experiment.json", kIterations, dir.path());
   std::printf("  parameter error after %u iterations: time of flight %.5f, steady %.5f (both from %.5f)\n", kIterations,
-              tofFinal, steadyFinal, tof.front());
-  EXPECT_NEAR(tof.front(), steady.front(), 1e-12);
-  EXPECT_LT(tofFinal, kTofBound * tof.front());
-  EXPECT_GT(steadyFinal, kSteadyRatio * tofFinal);
+              c.strong, c.weak, c.start);
+  EXPECT_LT(c.strong, kTofBound * c.start);
+  EXPECT_GT(c.weak, kSteadyRatio * c.strong);
 }
 
 }  // namespace

@@ -27,16 +27,12 @@ constexpr double kOnBound = 0.35, kOffRatio = 2.0;
 
 TEST(ExperimentLightPosition, AntitheticPairsBeatNoPairsAtEqualTime) {
   test::TempDir dir;
-  const std::vector<double> on =
-      test::experimentParameterErrors(kExperiment / "antithetic_on.experiment.json", dir / "on", kIterationsOn);
-  const std::vector<double> off =
-      test::experimentParameterErrors(kExperiment / "antithetic_off.experiment.json", dir / "off", kIterationsOff);
-  const double onFinal = test::medianOfLast10(on), offFinal = test::medianOfLast10(off);
+  const test::Contrast c = test::runContrast(kExperiment / "antithetic_on.experiment.json", kIterationsOn,
+                                             kExperiment / "antithetic_off.experiment.json", kIterationsOff, dir.path());
   std::printf("  parameter error: antithetic pairs %.5f after %u iterations, none %.5f after %u (both from %.5f)\n",
-              onFinal, kIterationsOn, offFinal, kIterationsOff, on.front());
-  EXPECT_NEAR(on.front(), off.front(), 1e-12);
-  EXPECT_LT(onFinal, kOnBound * on.front());
-  EXPECT_GT(offFinal, kOffRatio * onFinal);
+              c.strong, kIterationsOn, c.weak, kIterationsOff, c.start);
+  EXPECT_LT(c.strong, kOnBound * c.start);
+  EXPECT_GT(c.weak, kOffRatio * c.strong);
 }
 
 }  // namespace

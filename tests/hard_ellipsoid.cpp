@@ -39,18 +39,7 @@ struct SampleRun {
 
 // Samples n connections for (f1, f2, s') and checks every output is finite and consistent.
 SampleRun sample(const Scene& scene, dvec3 f1, dvec3 f2, double s, size_t n, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::vector<SampleIn> in(n);
-  for (SampleIn& x : in) {
-    for (int k = 0; k < 3; ++k) {
-      x.f1[k] = float(f1[k]);
-      x.f2[k] = float(f2[k]);
-    }
-    x.s = float(s);
-    for (float& u : x.u) u = unit(rng);
-    x.pad = 0.0f;
-  }
+  const std::vector<SampleIn> in = ellipsoidInputs(n, seed, f1, f2, [&](std::mt19937&) { return float(s); });
   SampleRun run;
   run.s = in[0].s;
   run.out = runKernel<SampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene);

@@ -51,6 +51,11 @@ struct Camera {
   glm::vec3 normal{0.0f, 0.0f, -1.0f};  // point sensor: cosine-weighted irradiance around this normal
 };
 
+// The film's size in pixels: width x height, or 1 x 1 for a point sensor.
+inline glm::uvec2 imagePixels(const Camera& camera) {
+  return camera.type == CameraType::PointSensor ? glm::uvec2(1u) : glm::uvec2(camera.width, camera.height);
+}
+
 enum class NeeMode : uint32_t { Auto = 0, Standard = 1, Ellipsoidal = 2, Mis = 3 };
 
 struct RenderSettings {

@@ -127,12 +127,18 @@ class GpuTracer {
 };
 
 // Compares the first rays' device answers with the host traversal (the tests' reference).
-void checkAgainstHost(const PreparedScene& prepared, const std::vector<TraceRay>& rays, bool anyHit,
-                      const std::vector<gpu::HitRecord>& hits, BenchTraceRow& row) {
+// The prepared scene's triangles (leaf order) as the host traversal takes them.
+std::vector<BvhTriangle> hostTriangles(const PreparedScene& prepared) {
   std::vector<BvhTriangle> triangles(prepared.triangles.size());
   for (size_t i = 0; i < triangles.size(); ++i)
     triangles[i] = {glm::vec3(prepared.triangles[i].p0), glm::vec3(prepared.triangles[i].p1),
                     glm::vec3(prepared.triangles[i].p2)};
+  return triangles;
+}
+
+void checkAgainstHost(const PreparedScene& prepared, const std::vector<BvhTriangle>& triangles,
+                      const std::vector<TraceRay>& rays, bool anyHit, const std::vector<gpu::HitRecord>& hits,
+                      BenchTraceRow& row) {
   row.checked = uint32_t(std::min<size_t>(rays.size(), 4096));
   for (uint32_t i = 0; i < row.checked; ++i) {
     const TraceRay& r = rays[i];
@@ -175,6 +181,7 @@ BenchTraceReport benchTrace(VulkanContext& context, const BenchTraceOptions& opt
   for (const NamedScene& named : scenesToTrace(options)) {
     const PreparedScene prepared = prepareScene(named.scene);
     const float tMin = surfaceOffset(prepared);
+    const std::vector<BvhTriangle> triangles = hostTriangles(prepared);
     options.say(named.name + ": " + std::to_string(prepared.triangles.size()) + " triangles");
     std::mt19937 rng(1234);
     for (const char* kind : {"primary", "incoherent"}) {
@@ -198,7 +205,7 @@ BenchTraceReport benchTrace(VulkanContext& context, const BenchTraceOptions& opt
         size_t hit = 0;
         for (const gpu::HitRecord& h : hits) hit += anyHit ? h.tuvTriangle.x > 0 : h.tuvTriangle.x >= 0;
         row.hitFraction = double(hit) / double(count);
-        checkAgainstHost(prepared, rays, anyHit, hits, row);
+        checkAgainstHost(prepared, triangles, rays, anyHit, hits, row);
         if (!report.embree.empty()) {
           if (std::optional<EmbreeTiming> embree = embreeTrace(prepared, rays, anyHit, budget, options.runs)) {
             row.embreeRaysPerSecond = embree->raysPerSecond;

@@ -165,15 +165,14 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
     } else {
       targets[t] = loadTargetImage(e, t);
     }
+  std::vector<TargetSetup> setups;
+  for (size_t t = 0; t < e.targets.size(); ++t) setups.push_back(targetSetup(e, t));
   // A target whose image and smallest batch alone exceed the device or --mem fails here, with what
   // it would need, before the run directory is touched (the scene comes on top).
   for (size_t t = 0; t < e.targets.size(); ++t) {
-    const RenderSetup setup = targetSetup(e, t).setup;
-    const bool sensor = setup.camera.type == CameraType::PointSensor;
+    const glm::uvec2 pixels = imagePixels(setups[t].setup.camera);
     try {
-      checkRenderMemory(context,
-                        filmAndBatchNeed(sensor ? 1 : setup.camera.width, sensor ? 1 : setup.camera.height,
-                                         setup.gate.layers(), 1, 0),
+      checkRenderMemory(context, filmAndBatchNeed(pixels.x, pixels.y, setups[t].setup.gate.layers(), 1, 0),
                         info.memoryBudget);
     } catch (const Error& tooLarge) {
       fail(e.source.string(), "targets[" + std::to_string(t) + "]", tooLarge.what());
@@ -198,14 +197,11 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
   ParameterModel model(e.scene, selectedIndices(e));
   Renderer renderer(context);
   synthesizeTargets(context, renderer, e, model, run, info.memoryBudget, options.progress, targets);
-  std::vector<TargetSetup> setups;
   for (size_t t = 0; t < e.targets.size(); ++t) {
-    setups.push_back(targetSetup(e, t));
     if (!e.targets[t].synthesize) continue;
     // A synthesised target read back on --resume is a file like any other: check it.
-    const Camera& c = setups[t].setup.camera;
-    checkTargetImageSize(e, t, targets[t], c.type == CameraType::PointSensor ? 1 : c.width,
-                         c.type == CameraType::PointSensor ? 1 : c.height, setups[t].setup.gate.layers());
+    const glm::uvec2 pixels = imagePixels(setups[t].setup.camera);
+    checkTargetImageSize(e, t, targets[t], pixels.x, pixels.y, setups[t].setup.gate.layers());
     checkTargetImageFinite(e, t, targets[t]);
   }
 

@@ -147,8 +147,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   if (adjoint && (!adjoint->image || !adjoint->gradient || !deviceScene.model()))
     throw Error("internal: an adjoint render needs an adjoint image, accumulators and a parameter model");
   const bool derivative = lanes > 0 || adjoint;
-  const uint32_t width = setup.camera.type == CameraType::PointSensor ? 1 : setup.camera.width;
-  const uint32_t height = setup.camera.type == CameraType::PointSensor ? 1 : setup.camera.height;
+  const uint32_t width = imagePixels(setup.camera).x, height = imagePixels(setup.camera).y;
   const uint64_t pixels = uint64_t(width) * height;
   // The edge term counts edge samples (each owns two path slots); the others count paths.
   const uint64_t totalPaths = pixels * settings.spp;

@@ -87,7 +87,7 @@ ImageSet loadTargetImage(const Experiment& experiment, size_t target) {
   }
   // A view moves the camera but never changes its resolution.
   const Camera& camera = experiment.scene.camera;
-  checkTargetImageSize(experiment, target, image, camera.width, camera.height, t.gate.layers());
+  checkTargetImageSize(experiment, target, image, imagePixels(camera).x, imagePixels(camera).y, t.gate.layers());
   checkTargetImageFinite(experiment, target, image);
   return image;
 }

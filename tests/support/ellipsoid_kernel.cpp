@@ -2,21 +2,26 @@
 
 namespace vktg::test {
 
-std::vector<EllipsoidSampleIn> planeAndTiltedInputs(size_t n, uint32_t seed,
-                                                    const std::function<float(std::mt19937&)>& length) {
+std::vector<EllipsoidSampleIn> ellipsoidInputs(size_t n, uint32_t seed, dvec3 f1, dvec3 f2,
+                                               const std::function<float(std::mt19937&)>& length) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   std::vector<EllipsoidSampleIn> in(n);
   for (EllipsoidSampleIn& x : in) {
     for (int k = 0; k < 3; ++k) {
-      x.f1[k] = float(kPlaneAndTiltedFocus1[k]);
-      x.f2[k] = float(kPlaneAndTiltedFocus2[k]);
+      x.f1[k] = float(f1[k]);
+      x.f2[k] = float(f2[k]);
     }
     x.s = length(rng);
     for (float& u : x.u) u = unit(rng);
     x.pad = 0.0f;
   }
   return in;
+}
+
+std::vector<EllipsoidSampleIn> planeAndTiltedInputs(size_t n, uint32_t seed,
+                                                    const std::function<float(std::mt19937&)>& length) {
+  return ellipsoidInputs(n, seed, kPlaneAndTiltedFocus1, kPlaneAndTiltedFocus2, length);
 }
 
 std::vector<RefTriangle> planeAndTiltedTriangles() {

@@ -28,7 +28,10 @@ static_assert(sizeof(EllipsoidSampleIn) == 48 && sizeof(EllipsoidSampleOut) == 8
 std::vector<RefTriangle> planeAndTiltedTriangles();
 inline const dvec3 kPlaneAndTiltedFocus1{-0.3, 0.2, 1.5};
 inline const dvec3 kPlaneAndTiltedFocus2{0.4, -0.1, 1.2};
-// n kernel inputs with those foci: each draws its length s' from `length`, then its 4 uniforms.
+// n kernel inputs with foci f1, f2: each draws its length s' from `length`, then its 4 uniforms.
+std::vector<EllipsoidSampleIn> ellipsoidInputs(size_t n, uint32_t seed, dvec3 f1, dvec3 f2,
+                                               const std::function<float(std::mt19937&)>& length);
+// ... with the foci above the plane and the tilted triangle.
 std::vector<EllipsoidSampleIn> planeAndTiltedInputs(size_t n, uint32_t seed,
                                                     const std::function<float(std::mt19937&)>& length);
 

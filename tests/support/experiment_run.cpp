@@ -6,6 +6,8 @@
 #include "opt/run_directory.h"
 #include "support/gpu_context.h"
 
+#include <gtest/gtest.h>
+
 namespace vktg::test {
 
 std::vector<double> experimentParameterErrors(const std::filesystem::path& experiment, const std::filesystem::path& out,
@@ -16,6 +18,14 @@ std::vector<double> experimentParameterErrors(const std::filesystem::path& exper
   o.iterations = iterations;
   optimize(testContext(), o);
   return readLogColumns(out / "log.csv").at("parameter_error");
+}
+
+Contrast runContrast(const std::filesystem::path& strong, uint32_t strongIterations, const std::filesystem::path& weak,
+                     uint32_t weakIterations, const std::filesystem::path& out) {
+  const std::vector<double> strongErrors = experimentParameterErrors(strong, out / "strong", strongIterations);
+  const std::vector<double> weakErrors = experimentParameterErrors(weak, out / "weak", weakIterations);
+  EXPECT_NEAR(strongErrors.front(), weakErrors.front(), 1e-12) << "the variants must start from the same parameters";
+  return {strongErrors.front(), medianOfLast10(strongErrors), medianOfLast10(weakErrors)};
 }
 
 double medianOfLast10(std::vector<double> values) {

@@ -11,6 +11,14 @@ namespace vktg::test {
 std::vector<double> experimentParameterErrors(const std::filesystem::path& experiment, const std::filesystem::path& out,
                                               uint32_t iterations);
 
+// An experiment's contrast: the variant expected to recover the parameters and the weaker one, run
+// from the same start (checked), each summarised by medianOfLast10 of its parameter error.
+struct Contrast {
+  double start = 0, strong = 0, weak = 0;
+};
+Contrast runContrast(const std::filesystem::path& strong, uint32_t strongIterations, const std::filesystem::path& weak,
+                     uint32_t weakIterations, const std::filesystem::path& out);
+
 // The median of the last 10 values (Adam oscillates about its optimum by about its learning rate).
 double medianOfLast10(std::vector<double> values);
 
