@@ -120,6 +120,8 @@ const BadCase kCases[] = {
     {"heightfield resolution 1", [](json& j) { j["shapes"][1]["resolution"] = {1, 2}; j["shapes"][1]["heights"] = {0, 0}; }, "shapes[1].resolution[0]", "out of range"},
     {"heightfield zero size", [](json& j) { j["shapes"][1]["size"] = {1, 0}; }, "shapes[1].size[1]", "out of range"},
     {"heightfield NaN-like height", [](json& j) { j["shapes"][1]["heights"][2] = nullptr; }, "shapes[1].heights[2]", "wrong type"},
+    {"transform past the float range", [](json& j) { j["shapes"][1]["transform"] = {{"scale", 3e38}, {"translate", {3e38, 0, 0}}}; }, "shapes[1]", "past the float range"},
+    {"mesh transform past the float range", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "tiny.gltf"}, {"transform", {{"scale", 3e38}, {"rotate", {0, 45, 0}}}}}; }, "shapes[1]", "past the float range"},
     {"zero-area mesh", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "degenerate.gltf"}}; }, "shapes[1]", "zero area"},
     {"empty mesh", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "no_meshes.gltf"}}; }, "shapes[1].file", "empty mesh"},
     {"missing mesh file", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "nowhere.glb"}}; }, "shapes[1].file", "not found"},

@@ -214,6 +214,9 @@ void forEachPrimitive(const GltfFile& file,
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       TriangleMesh local = readPrimitive(file, size_t(meshIndex), p);
       transformMesh(local, world);
+      if (!allFinite(local.positions))
+        file.fail("nodes[" + std::to_string(nodeIndex) + "]",
+                  "its transform (with its parents') takes vertex positions past the float range");
       visit(local, size_t(meshIndex), p, world);
     }
   });

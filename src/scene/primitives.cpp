@@ -120,6 +120,12 @@ void transformMesh(TriangleMesh& mesh, const glm::mat4& transform) {
     for (glm::uvec3& t : mesh.triangles) std::swap(t.y, t.z);
 }
 
+bool allFinite(const std::vector<glm::vec3>& positions) {
+  return std::all_of(positions.begin(), positions.end(), [](const glm::vec3& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+  });
+}
+
 double meshArea(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles) {
   double area = 0;
   for (const glm::uvec3& t : triangles) {

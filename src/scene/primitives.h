@@ -35,6 +35,8 @@ glm::mat4 composeTransform(glm::vec3 translate, glm::vec3 rotateDegrees, glm::ve
 // front faces into back faces; the winding is reversed then so the front face stays the image of
 // the front face.
 void transformMesh(TriangleMesh& mesh, const glm::mat4& transform);
+// Whether every coordinate is finite: a transform can take finite vertices past the float range.
+bool allFinite(const std::vector<glm::vec3>& positions);
 
 double meshArea(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles);
 

@@ -195,6 +195,7 @@ class SceneParser {
         fileField.fail(e.what());
       }
       const Shape& shape = m_scene.shapes.back();
+      if (!allFinite(shape.positions)) value.fail("transform takes vertex positions past the float range");
       if (meshArea(shape.positions, shape.triangles) <= 0) value.fail("zero area: the mesh has no visible surface");
       return;
     }
@@ -209,6 +210,7 @@ class SceneParser {
       m_heightfieldUp[name] = glm::vec3(glm::mat3(transform) * glm::vec3(0, 1, 0));
     }
     transformMesh(mesh, transform);
+    if (!allFinite(mesh.positions)) value.fail("transform takes vertex positions past the float range");
     if (!(meshArea(mesh.positions, mesh.triangles) > 0)) value.fail("zero area: the shape has no visible surface");
     Shape shape;
     shape.name = name;
