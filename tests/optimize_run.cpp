@@ -80,6 +80,9 @@ INSTANTIATE_TEST_SUITE_P(
     Reduced, OptimizeConverges,
     testing::Values(ConvergenceCase{"ConfocalPlaneDistance", "converge_plane.json", 0.12, 0.25},
                     ConvergenceCase{"LightHeight", "converge_light.json", 0.4, 0.25},
+                    // The same with `"gradient": "finite_differences"`: the baseline mode the
+                    // experiments compare with must itself find a parameter the loss pins down.
+                    ConvergenceCase{"LightHeightFiniteDifferences", "converge_light_fd.json", 0.4, 0.25},
                     ConvergenceCase{"Heightfield4x4", "converge_heightfield.json", 0.05, 1.0 / 3.0}),
     [](const testing::TestParamInfo<ConvergenceCase>& info) { return std::string(info.param.name); });
 

@@ -227,6 +227,10 @@ const BadCase kCases[] = {
     {"unknown antithetic mode", [](json& j) { j["render"]["antithetic"] = "yes"; }, "render.antithetic", "unknown value"},
     {"unknown nee mode", [](json& j) { j["render"]["nee"] = "fast"; }, "render.nee", "unknown value"},
     {"zero max depth", [](json& j) { j["render"]["max_depth"] = 0; }, "render.max_depth", "out of range"},
+    {"unknown gradient", [](json& j) { j["render"]["gradient"] = "numerical"; }, "render.gradient", "unknown value"},
+    {"finite differences without a step", [](json& j) { j["render"]["gradient"] = "finite_differences"; }, "render", "needs \"fd_step\""},
+    {"zero finite-difference step", [](json& j) { j["render"]["gradient"] = "finite_differences"; j["render"]["fd_step"] = 0; }, "render.fd_step", "out of range"},
+    {"step without finite differences", [](json& j) { j["render"]["fd_step"] = 0.01; }, "render.fd_step", "only used with"},
     // Stopping rules.
     {"zero iterations", [](json& j) { j["stop"]["iterations"] = 0; }, "stop.iterations", "out of range"},
     {"unknown stop field", [](json& j) { j["stop"]["minutes"] = 1; }, "stop.minutes", "unknown field"},

@@ -1,9 +1,11 @@
 #include "host/optimize.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <numeric>
 #include <optional>
@@ -48,7 +50,7 @@ std::string formatSeconds(double s) {
   return text;
 }
 
-// How target t is rendered: its camera and gate, the experiment's render settings, its lights.
+// How target t is seen: its camera and gate, the scene's render settings, its lights.
 struct TargetSetup {
   RenderSetup setup;
   std::vector<std::pair<uint32_t, glm::vec3>> lights;
@@ -60,7 +62,6 @@ TargetSetup targetSetup(const Experiment& e, size_t t) {
   Scene seen = sceneForTarget(e.scene, target);
   s.setup = RenderSetup::of(seen);
   s.setup.gate = target.gate;
-  if (e.budget.maxDepth > 0) s.setup.settings.maxDepth = e.budget.maxDepth;
   s.lights = target.view.lightPositions;
   return s;
 }
@@ -134,6 +135,22 @@ void synthesizeTargets(VulkanContext& context, Renderer& renderer, const Experim
   }
 }
 
+// d loss / d θ by central differences, one parameter at a time (2K evaluations of `loss`).
+std::vector<double> centralDifferences(const std::function<double(const std::vector<double>&)>& loss,
+                                       std::vector<double> theta, double step) {
+  std::vector<double> d(theta.size());
+  for (size_t k = 0; k < theta.size(); ++k) {
+    const double value = theta[k];
+    theta[k] = value + step;
+    const double above = loss(theta);
+    theta[k] = value - step;
+    const double below = loss(theta);
+    theta[k] = value;
+    d[k] = (above - below) / (2 * step);
+  }
+  return d;
+}
+
 }  // namespace
 
 OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options) {
@@ -166,7 +183,12 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       targets[t] = loadTargetImage(e, t);
     }
   std::vector<TargetSetup> setups;
-  for (size_t t = 0; t < e.targets.size(); ++t) setups.push_back(targetSetup(e, t));
+  for (size_t t = 0; t < e.targets.size(); ++t) {
+    // render.max_depth limits the model being fitted; the synthesised targets stand for the
+    // measurement and keep the scene's depth (synthesizeTargets).
+    setups.push_back(targetSetup(e, t));
+    if (e.budget.maxDepth > 0) setups.back().setup.settings.maxDepth = e.budget.maxDepth;
+  }
   // A target whose image and smallest batch alone exceed the device or --mem fails here, with what
   // it would need, before the run directory is touched (the scene comes on top).
   for (size_t t = 0; t < e.targets.size(); ++t) {
@@ -291,12 +313,37 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       }
       if (initialLoss.empty()) initialLoss = losses;
       for (size_t t = 0; t < views.size(); ++t) views[t].adjoint = &adjointImages[t];
-      LossGradient g = lossGradient(renderer, scene, views, gradient, adjoint);
+      // The loss at θ' rendered with the gradient's random numbers (use 1): both sides of a central
+      // difference share them, so that their noise cancels as far as it can (common random numbers).
+      auto lossAt = [&](const std::vector<double>& at) {
+        throwIfInterrupted();
+        scene.update(at, false);
+        double total = 0;
+        for (size_t t = 0; t < e.targets.size(); ++t) {
+          RenderSetup setup = views[t].setup;
+          setup.gate = setups[t].setup.gate.shifted(gateShift(e, at));
+          scene.placePointLights(setups[t].lights);
+          total += imageLoss(e.loss, renderer.render(scene, setup, primalOptions).mean, targets[t], e.targets[t].weight);
+        }
+        return total;
+      };
+      LossGradient g;
+      if (e.budget.finiteDifferences) {
+        g.theta = centralDifferences(lossAt, theta, e.budget.finiteDifferenceStep);
+        scene.update(theta, false);
+        g.plan.reasons.push_back("finite differences: the loss rendered at θ ± " + std::to_string(e.budget.finiteDifferenceStep) +
+                                 " for each of the " + std::to_string(theta.size()) + " parameters (" +
+                                 std::to_string(2 * theta.size() * e.targets.size()) + " renders at spp_interior), both sides with the same random numbers");
+        g.stats.nonFinite = uint64_t(std::count_if(g.theta.begin(), g.theta.end(), [](double v) { return !std::isfinite(v); }));
+      } else {
+        g = lossGradient(renderer, scene, views, gradient, adjoint);
+      }
       if (options.explain && !explained && options.progress) {
         std::string plan = "gradient plan:\n";
         for (const std::string& r : g.plan.reasons) plan += "  - " + r + "\n";
-        plan += "  - the adjoint image comes from a render with its own random numbers (seed of use 0), independent of the\n"
-                "    gradient's renders (use 1): a correlated one would bias the gradient of any loss not linear in the image\n";
+        if (!e.budget.finiteDifferences)
+          plan += "  - the adjoint image comes from a render with its own random numbers (seed of use 0), independent of the\n"
+                  "    gradient's renders (use 1): a correlated one would bias the gradient of any loss not linear in the image\n";
         options.progress(plan);
         explained = true;
       }

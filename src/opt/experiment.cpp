@@ -504,7 +504,8 @@ class ExperimentParser {
 
   void parseRender(const JsonValue& value) {
     const JsonObject o(value,
-                       {"spp", "spp_interior", "spp_edge", "spp_boundary", "terms", "antithetic", "nee", "max_depth"});
+                       {"spp", "spp_interior", "spp_edge", "spp_boundary", "terms", "antithetic", "nee", "max_depth",
+                        "gradient", "fd_step"});
     BudgetSpec& b = m_x.budget;
     b.sppPrimal = o.uinteger("spp", b.sppPrimal, 1, kMaxSpp);
     b.sppInterior = o.uinteger("spp_interior", b.sppInterior, 1, kMaxSpp);
@@ -514,6 +515,11 @@ class ExperimentParser {
     if (o.has("antithetic")) b.antithetic = o.field("antithetic").oneOf({"auto", "on", "off"});
     if (o.has("nee")) b.nee = readNeeMode(o.field("nee"));
     b.maxDepth = o.uinteger("max_depth", b.maxDepth, 1, kMaxDepth);
+    if (o.has("gradient")) b.finiteDifferences = o.field("gradient").oneOf({"adjoint", "finite_differences"}) == "finite_differences";
+    const std::optional<double> step = positive(o, "fd_step");
+    if (b.finiteDifferences && !step) value.fail("\"gradient\": \"finite_differences\" needs \"fd_step\", the step in parameter units");
+    if (!b.finiteDifferences && step) o.field("fd_step").fail("only used with \"gradient\": \"finite_differences\"");
+    b.finiteDifferenceStep = step.value_or(0.0);
   }
 
   void parseTerms(const JsonValue& value) {

@@ -97,6 +97,10 @@ struct BudgetSpec {
   std::string antithetic = "auto";  // auto | on | off
   NeeMode nee = NeeMode::Auto;
   uint32_t maxDepth = 0;            // 0: the scene's
+  // The gradient: adjoint renders of the three terms, or central differences of the loss with
+  // step finiteDifferenceStep (in each parameter's units), the baseline the experiments compare with.
+  bool finiteDifferences = false;
+  double finiteDifferenceStep = 0;
 };
 
 struct StopSpec {
