@@ -43,6 +43,7 @@ const CommandSpec& benchSpec() {
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
                  {"--scale", "X", "multiplies every sample count (default 1; 0.25 for a quick look)"},
+                 {"--point-seconds", "S", "render and grad: a curve's first point takes at least S seconds (its sample count doubles until it does, so a fast device is not timed on launch overhead; default 0.05, 0 keeps the counts)"},
                  {"--sizes", "N,N,...",
                   "optimize, nee, trace: heightfield vertices per side (default 11,100,1000; nee 17,257,725; trace 257,725)"},
                  {"--no-path-length", "", "optimize: leave out the path-length-boundary term"},
@@ -101,6 +102,10 @@ int runBench(const std::vector<std::string>& argv) {
   if (auto scale = args.number("--scale")) {
     if (!(*scale > 0 && *scale <= 64)) throw UsageError("--scale must be in (0, 64]");
     options.scale = *scale;
+  }
+  if (auto seconds = args.number("--point-seconds")) {
+    if (!(*seconds >= 0 && *seconds <= 600)) throw UsageError("--point-seconds must be in [0, 600]");
+    options.pointSeconds = *seconds;
   }
   options.memoryBudget = memoryBudget(args);
   options.log = log;

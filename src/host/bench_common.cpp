@@ -24,6 +24,20 @@ Gate boxGate(double a, double b) {
   return g;
 }
 
+uint32_t firstLadderSpp(double baseSpp, const BenchOptions& options, const std::function<double(uint32_t spp)>& secondsAt) {
+  // The ladder doubles from here options.ladderSteps times and must stay within the 2^30 spp a render takes.
+  const uint32_t kMaxSpp = (1u << 30) >> std::min(options.ladderSteps, 30u);
+  uint32_t spp = uint32_t(std::max(1.0, baseSpp * options.scale));
+  if (!(options.pointSeconds > 0)) return spp;
+  for (double seconds = secondsAt(spp); seconds < options.pointSeconds && spp < kMaxSpp; seconds = secondsAt(spp)) {
+    // Jump by the power of two the time ratio asks for (2 to 64 at a time): a few probes, not one per doubling.
+    const double ratio = seconds > 0 ? options.pointSeconds / seconds : 64.0;
+    const uint32_t factor = uint32_t(std::clamp(std::exp2(std::ceil(std::log2(ratio))), 2.0, 64.0));
+    spp = uint32_t(std::min<uint64_t>(kMaxSpp, uint64_t(spp) * factor));
+  }
+  return spp;
+}
+
 uint32_t BenchOptions::scaledSide(uint32_t side) const {
   return std::max(8u, uint32_t(std::lround(side * std::sqrt(scale))));
 }

@@ -16,6 +16,9 @@ struct BenchOptions {
   uint32_t runs = 3;             // repetitions per point (medians are reported)
   uint32_t ladderSteps = 5;      // spp doubles this many times from the base
   double scale = 1.0;            // multiplies every spp (quick runs use < 1)
+  // The shortest a ladder's first point may take: on a fast device a fixed sample count measures
+  // launch overhead, not the estimator (0: take the sample counts as they are).
+  double pointSeconds = 0.05;
   uint64_t memoryBudget = 512ull << 20;
   std::function<void(const std::string&)> log;
 
@@ -25,6 +28,11 @@ struct BenchOptions {
   // An image side of `side` pixels at full scale: the pixel count follows `scale` (at least 8 a side).
   uint32_t scaledSide(uint32_t side) const;
 };
+
+// The first sample count of a ladder: `baseSpp` × scale (at least 1), multiplied by powers of two
+// until one run at it, timed by `secondsAt(spp)`, takes options.pointSeconds (at most 2^30 spp at
+// the ladder's last point).
+uint32_t firstLadderSpp(double baseSpp, const BenchOptions& options, const std::function<double(uint32_t spp)>& secondsAt);
 
 Gate gaussianGate(double mu, double sigma);
 Gate boxGate(double a, double b);

@@ -114,19 +114,20 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
       go.render.memoryBudget = options.memoryBudget;
       go.render.nee = e.nee;
       go.antithetic = e.antithetic;
-      {
-        Scene warm = scene;  // drivers may compile pipelines at first use: keep it out of the timings
-        warm.render.spp = 1;
-        renderGradient(renderer, warm, {"plane_h"}, go);
-      }
+      auto gradientAt = [&](uint32_t spp, uint32_t seed) {
+        Scene s = scene;
+        s.render.spp = spp;
+        s.render.seed = seed;
+        return renderGradient(renderer, s, {"plane_h"}, go);
+      };
+      gradientAt(1, 0);  // warm-up: drivers may compile pipelines at first use; keep it out of the timings
+      const uint32_t firstSpp =
+          firstLadderSpp(512, options, [&](uint32_t spp) { return gradientAt(spp, 1999).stats.seconds; });
       for (uint32_t step = 0; step <= options.ladderSteps; ++step) {
-        uint32_t spp = uint32_t(std::max(1.0, 512 * options.scale)) << step;
+        const uint32_t spp = firstSpp << step;
         std::vector<double> times, errors;
         for (uint32_t run = 0; run < options.runs; ++run) {
-          Scene s = scene;
-          s.render.spp = spp;
-          s.render.seed = 2000 + run;
-          GradientResult g = renderGradient(renderer, s, {"plane_h"}, go);
+          GradientResult g = gradientAt(spp, 2000 + run);
           times.push_back(g.stats.seconds);
           errors.push_back(relMse(g.total.derivatives[0].layers[0].pixels, {reference}));
         }
@@ -148,8 +149,12 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
     go.render.memoryBudget = options.memoryBudget;
     go.render.nee = NeeMode::Ellipsoidal;
     go.interior = go.edges = false;
-    const uint32_t firstSpp = uint32_t(std::max(1.0, 512 * options.scale));
     go.antithetic = AntitheticMode::On;
+    const uint32_t firstSpp = firstLadderSpp(512, options, [&](uint32_t spp) {
+      Scene s = scene;
+      s.render.spp = spp;
+      return renderGradient(renderer, s, {"plane_h"}, go).stats.seconds;
+    });
     Scene refScene = scene;
     refScene.render.spp = (firstSpp << options.ladderSteps) * 16;
     refScene.render.seed = 4000;
@@ -179,7 +184,10 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
     GradientOptions go;
     go.render.memoryBudget = options.memoryBudget;
     go.interior = go.pathLength = false;
-    const uint32_t firstSpp = uint32_t(std::max(1.0, 16 * options.scale));
+    const uint32_t firstSpp = firstLadderSpp(16, options, [&](uint32_t spp) {
+      go.sppEdge = spp;
+      return renderGradient(renderer, scene, {"move"}, go).stats.seconds;
+    });
     go.sppEdge = (firstSpp << options.ladderSteps) * 16;
     std::vector<float> reference = renderGradient(renderer, scene, {"move"}, go).total.derivatives[0].layers[0].pixels;
     for (uint32_t step = 0; step <= options.ladderSteps; ++step) {

@@ -100,6 +100,7 @@ BenchRenderReport benchRender(VulkanContext& context, const BenchRenderOptions& 
   }
   cases.push_back({"cornell", defaultScene(), boxGate(4.5, 5.5), "box 4.5-5.5 m", {}, 4});
 
+  const uint32_t referenceSpp = uint32_t(std::max(64.0, 8192 * options.scale));
   for (BenchCase& c : cases) {
     c.scene.gate = c.gate;
     if (c.sceneName == "cornell") {
@@ -113,7 +114,7 @@ BenchRenderReport benchRender(VulkanContext& context, const BenchRenderOptions& 
         c.reference = readExr(cached).layers.at(0).pixels;
       } else {
         Scene ref = c.scene;
-        ref.render.spp = uint32_t(std::max(64.0, 8192 * options.scale));
+        ref.render.spp = referenceSpp;
         ref.render.seed = 0xbe4c4u;
         RenderOptions ro;
         ro.memoryBudget = options.memoryBudget;
@@ -125,26 +126,28 @@ BenchRenderReport benchRender(VulkanContext& context, const BenchRenderOptions& 
       }
     }
     for (NeeMode nee : {NeeMode::Standard, NeeMode::Ellipsoidal}) {
-      {
-        // Warm-up: drivers may compile pipelines at first use; keep that out of the timings.
+      auto renderAt = [&](uint32_t spp, uint32_t seed) {
         Scene s = c.scene;
-        s.render.spp = 1;
+        s.render.spp = spp;
+        s.render.seed = seed;
         RenderOptions ro;
         ro.memoryBudget = options.memoryBudget;
         ro.nee = nee;
-        renderer.render(s, ro);
-      }
+        return renderer.render(s, ro);
+      };
+      renderAt(1, 0);  // warm-up: drivers may compile pipelines at first use; keep that out of the timings
+      const uint32_t firstSpp =
+          firstLadderSpp(c.baseSpp, options, [&](uint32_t spp) { return renderAt(spp, 999).stats.seconds; });
+      const bool renderedReference = c.sceneName == "cornell";  // the confocal plane's is exact
+      if (renderedReference && (uint64_t(firstSpp) << options.ladderSteps) * 4 > referenceSpp)
+        options.say("warning: the curve reaches " + std::to_string(firstSpp << options.ladderSteps) +
+                    " spp, within 4x of the reference's " + std::to_string(referenceSpp) +
+                    ": its relMSE includes the reference's own error (raise --scale or lower --point-seconds)");
       for (uint32_t step = 0; step <= options.ladderSteps; ++step) {
-        uint32_t spp = uint32_t(std::max(1.0, c.baseSpp * options.scale)) << step;
+        const uint32_t spp = firstSpp << step;
         std::vector<double> times, errors, pathRates, rayRates;
         for (uint32_t run = 0; run < options.runs; ++run) {
-          Scene s = c.scene;
-          s.render.spp = spp;
-          s.render.seed = 1000 + run;
-          RenderOptions ro;
-          ro.memoryBudget = options.memoryBudget;
-          ro.nee = nee;
-          RenderResult r = renderer.render(s, ro);
+          RenderResult r = renderAt(spp, 1000 + run);
           times.push_back(r.stats.seconds);
           errors.push_back(relMse(r.mean.layers[0].pixels, c.reference));
           pathRates.push_back(double(r.stats.paths) / r.stats.seconds);
