@@ -29,7 +29,9 @@ uint32_t firstLadderSpp(double baseSpp, const BenchOptions& options, const std::
   const uint32_t kMaxSpp = (1u << 30) >> std::min(options.ladderSteps, 30u);
   uint32_t spp = uint32_t(std::max(1.0, baseSpp * options.scale));
   if (!(options.pointSeconds > 0)) return spp;
-  for (double seconds = secondsAt(spp); seconds < options.pointSeconds && spp < kMaxSpp; seconds = secondsAt(spp)) {
+  while (spp < kMaxSpp) {
+    const double seconds = secondsAt(spp);
+    if (seconds >= options.pointSeconds) break;
     // Jump by the power of two the time ratio asks for (2 to 64 at a time): a few probes, not one per doubling.
     const double ratio = seconds > 0 ? options.pointSeconds / seconds : 64.0;
     const uint32_t factor = uint32_t(std::clamp(std::exp2(std::ceil(std::log2(ratio))), 2.0, 64.0));

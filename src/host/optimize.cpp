@@ -313,27 +313,29 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       }
       if (initialLoss.empty()) initialLoss = losses;
       for (size_t t = 0; t < views.size(); ++t) views[t].adjoint = &adjointImages[t];
-      // The loss at θ' rendered with the gradient's random numbers (use 1): both sides of a central
-      // difference share them, so that their noise cancels as far as it can (common random numbers).
-      auto lossAt = [&](const std::vector<double>& at) {
-        throwIfInterrupted();
-        scene.update(at, false);
-        double total = 0;
-        for (size_t t = 0; t < e.targets.size(); ++t) {
-          RenderSetup setup = views[t].setup;
-          setup.gate = setups[t].setup.gate.shifted(gateShift(e, at));
-          scene.placePointLights(setups[t].lights);
-          total += imageLoss(e.loss, renderer.render(scene, setup, primalOptions).mean, targets[t], e.targets[t].weight);
-        }
-        return total;
-      };
       LossGradient g;
       if (e.budget.finiteDifferences) {
+        // The loss at θ' rendered with the gradient's random numbers (use 1): both sides of a central
+        // difference share them, so that their noise cancels as far as it can (common random numbers).
+        auto lossAt = [&](const std::vector<double>& at) {
+          throwIfInterrupted();
+          scene.update(at, false);
+          double total = 0;
+          for (size_t t = 0; t < e.targets.size(); ++t) {
+            RenderSetup setup = views[t].setup;
+            setup.gate = setups[t].setup.gate.shifted(gateShift(e, at));
+            scene.placePointLights(setups[t].lights);
+            total += imageLoss(e.loss, renderer.render(scene, setup, primalOptions).mean, targets[t], e.targets[t].weight);
+          }
+          return total;
+        };
         g.theta = centralDifferences(lossAt, theta, e.budget.finiteDifferenceStep);
         scene.update(theta, false);
-        g.plan.reasons.push_back("finite differences: the loss rendered at θ ± " + std::to_string(e.budget.finiteDifferenceStep) +
-                                 " for each of the " + std::to_string(theta.size()) + " parameters (" +
-                                 std::to_string(2 * theta.size() * e.targets.size()) + " renders at spp_interior), both sides with the same random numbers");
+        g.plan.reasons.push_back("finite differences: the loss rendered at θ ± " +
+                                 std::to_string(e.budget.finiteDifferenceStep) + " for each of the " +
+                                 std::to_string(theta.size()) + " parameters (" +
+                                 std::to_string(2 * theta.size() * e.targets.size()) +
+                                 " renders at spp_interior), both sides with the same random numbers");
         g.stats.nonFinite = uint64_t(std::count_if(g.theta.begin(), g.theta.end(), [](double v) { return !std::isfinite(v); }));
       } else {
         g = lossGradient(renderer, scene, views, gradient, adjoint);
