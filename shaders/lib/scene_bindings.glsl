@@ -7,7 +7,10 @@
 #define VKTG_SCENE_BINDINGS_GLSL
 #include "vktg/gpu/shared.h"
 
-layout(std140, set = 0, binding = kBindingFrame) uniform FrameBlock { FrameUniforms frame; };
+// The frame block is a storage buffer, not a uniform buffer: lavapipe inlines the uniform-buffer
+// values its branches read and compiles, and keeps, a shader variant per distinct set of them, so a
+// uniform frame block grew the process by megabytes per render (tests/render_memory.cpp).
+layout(std430, set = 0, binding = kBindingFrame) readonly buffer FrameBlock { FrameUniforms frame; };
 
 #define VKTG_CHUNKS(Type, name, base)                                                      \
   layout(std430, set = 0, binding = base + 0) buffer name##Chunk0 { Type name##0[]; };     \

@@ -29,7 +29,7 @@ PassPipelines::PassPipelines(const VulkanContext& context, const ShaderTable& sh
   for (uint32_t b = 0; b < bindingCount; ++b) {
     VkDescriptorSetLayoutBinding binding{};
     binding.binding = b;
-    binding.descriptorType = b == gpu::kBindingFrame ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    binding.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     binding.descriptorCount = 1;
     binding.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     bindings.push_back(binding);
@@ -136,10 +136,10 @@ DescriptorSet::DescriptorSet(const VulkanContext& context, const PassPipelines& 
   VkDevice device = context.device();
   const uint32_t count = pipelines.bindingCount();
   VkDescriptorSetLayout layout = pipelines.setLayout();
-  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count}};
+  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count}};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;
-  poolInfo.poolSizeCount = 2;
+  poolInfo.poolSizeCount = 1;
   poolInfo.pPoolSizes = sizes;
   VkDescriptorPool pool;
   VKTG_VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
@@ -158,7 +158,7 @@ DescriptorSet::DescriptorSet(const VulkanContext& context, const PassPipelines& 
     writes[b].dstSet = m_set;
     writes[b].dstBinding = b;
     writes[b].descriptorCount = 1;
-    writes[b].descriptorType = b == gpu::kBindingFrame ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     writes[b].pBufferInfo = &infos[b];
   }
   vkUpdateDescriptorSets(device, count, writes.data(), 0, nullptr);

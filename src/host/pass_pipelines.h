@@ -1,7 +1,7 @@
 // A descriptor-set layout and pipeline layout shared by a family of passes (the render passes use
-// gpu::kBindingCount bindings, the scene-update passes gpu::kUpdateBindingCount; binding 0 is the
-// frame's uniform buffer, the rest storage buffers), compute pipelines created on demand per
-// (shader variant, specialisation constants), and descriptor sets.
+// gpu::kBindingCount bindings, the scene-update passes gpu::kUpdateBindingCount; all are storage
+// buffers, the frame block at binding 0 included, see shaders/lib/scene_bindings.glsl), compute
+// pipelines created on demand per (shader variant, specialisation constants), and descriptor sets.
 // Pipelines are cached on disk (VkPipelineCache) keyed by device, driver and vktg build.
 #pragma once
 #include <array>
