@@ -6,9 +6,12 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <map>
 
 #include <gtest/gtest.h>
 
+#include "opt/experiment.h"
+#include "opt/run_directory.h"
 #include "opt/run_files.h"
 #include "support/file_test.h"
 #include "vktg/error.h"
@@ -230,6 +233,38 @@ TEST_F(RunFiles, ResumedLogErrors) {
   expectError([&] { RunLog(path, {"iteration", "loss,target"}, true, 1); }, {"column name \"loss,target\""});
   expectError([&] { RunLog(path, {}, false, 0); }, {"at least one column"});
   EXPECT_EQ(readAll(path), before);  // nothing rewritten by a failed open
+}
+
+}  // namespace
+}  // namespace vktg
+
+namespace vktg {
+namespace {
+
+// The loss figure of a scan (one target per scan point) draws the total and the regularisation, not
+// 64 legend entries, which left no room for the axes and stopped the run at its first checkpoint.
+class RunFilesFigures : public test::TempDirTest {};
+
+TEST_F(RunFilesFigures, LossFigureOfManyTargetsFits) {
+  for (size_t targets : {size_t(3), size_t(64)}) {
+    Experiment e;
+    std::map<std::string, std::vector<double>> log;
+    for (int i = 0; i < 12; ++i) {
+      log["iteration"].push_back(i);
+      log["loss"].push_back(1.0 / (1 + i));
+      log["regularization"].push_back(0.01 / (1 + i));
+    }
+    for (size_t t = 0; t < targets; ++t) {
+      Target target;
+      target.name = "scan_" + std::to_string(t);
+      e.targets.push_back(target);
+      log["loss_" + target.name] = std::vector<double>(12, 1.0 / double(targets));
+    }
+    const fs::path run = m_dir / std::to_string(targets);
+    fs::create_directories(run);
+    ASSERT_NO_THROW(writeRunFigures(run, e, log, {})) << targets << " targets";
+    EXPECT_GT(fs::file_size(run / "loss.png"), 0u) << targets << " targets";
+  }
 }
 
 }  // namespace

@@ -173,9 +173,15 @@ void writeRunFigures(const fs::path& directory, const Experiment& experiment,
   };
   const std::vector<double> iterations = column("iteration");
   if (iterations.empty()) return;
-  LinePlot loss{"Loss", "iteration", "loss", true, {}};
+  // One line per target while the legend fits and the colours stay distinct; a scan's many
+  // targets keep their losses in log.csv only.
+  constexpr size_t kMaxTargetLines = 8;
+  const size_t targets = experiment.targets.size();
+  const bool perTarget = targets > 1 && targets <= kMaxTargetLines;
+  LinePlot loss{perTarget || targets == 1 ? "Loss" : "Loss (" + std::to_string(targets) + " targets: each in log.csv)",
+                "iteration", "loss", true, {}};
   loss.series.push_back({"total", iterations, column("loss")});
-  if (experiment.targets.size() > 1)
+  if (perTarget)
     for (const Target& t : experiment.targets) loss.series.push_back({t.name, iterations, column("loss_" + t.name)});
   if (log.count("regularization")) loss.series.push_back({"regularization", iterations, column("regularization")});
   writeLinePlot(directory / "loss.png", loss);
