@@ -1,0 +1,34 @@
+// The confocal NLOS scan (experiments/confocal_scan, docs/experiments.md) at reduced length: 64
+// hidden heights recovered from an 8 x 8 scan of transients on a relay wall, starting flat. Asserts
+// the documented outcome: the parameter error (RMS over the heights, median of the last 10
+// iterations) falls below a stated fraction of the start. The run with 4x wider bins is not run
+// here: it ends worse, but by less than the spread of a shortened run.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "support/cli_runner.h"
+#include "support/experiment_run.h"
+
+namespace vktg {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kExperiment = fs::path(VKTG_SOURCE_DIR) / "experiments" / "confocal_scan";
+constexpr uint32_t kIterations = 60;  // of the documented 150
+// Documented outcome at 150 iterations (docs/experiments.md): 0.031 -> 0.006. At 60 iterations
+// below 0.6 of the start (measured: see the printed line and docs/experiments.md).
+constexpr double kBound = 0.6;
+
+TEST(ExperimentConfocalScan, HiddenSurfaceRecoveredFromARelayWallScan) {
+  test::TempDir dir;
+  const std::vector<double> errors =
+      test::experimentParameterErrors(kExperiment / "fine_bins.experiment.json", dir.path() / "fine", kIterations);
+  const double start = errors.front(), end = test::medianOfLast10(errors);
+  std::printf("  parameter error from %.5f: %.5f after %u iterations\n", start, end, kIterations);
+  EXPECT_LT(end, kBound * start);
+}
+
+}  // namespace
+}  // namespace vktg
