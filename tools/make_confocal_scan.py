@@ -31,6 +31,11 @@ def true_height(x, z):
     return bump - dent
 
 
+def bins_gate(width):
+    """A transient stack of box bins of `width` m covering [FIRST_BIN, LAST_BIN]."""
+    return {"type": "bins", "start": FIRST_BIN, "width": width, "count": int(round((LAST_BIN - FIRST_BIN) / width))}
+
+
 def scene(n, bin_width):
     heights = [round(true_height(-SIZE / 2 + SIZE * i / (n - 1), -SIZE / 2 + SIZE * j / (n - 1)), 5)
                for j in range(n) for i in range(n)]
@@ -40,8 +45,7 @@ def scene(n, bin_width):
                        f"wall at y = {WALL_Y:g} m; the sensor and the laser share one wall point (the heights "
                        "here are the truth)",
         "camera": {"type": "point_sensor", "position": [0, WALL_Y, 0], "normal": [0, -1, 0]},
-        "gate": {"type": "bins", "start": FIRST_BIN, "width": bin_width,
-                 "count": int(round((LAST_BIN - FIRST_BIN) / bin_width))},
+        "gate": bins_gate(bin_width),
         # One bounce in the hidden scene (sensor -> surface -> laser): 2 segments.
         "render": {"spp": 256, "max_depth": 2},
         "materials": {"hidden": {"type": "diffuse", "albedo": 0.5}},
@@ -100,9 +104,8 @@ def main():
         json.dump(truth, f, indent=1)
     n, m = args.heights, args.scan
     coarse = 4 * args.bin_width
-    coarse_gate = {"type": "bins", "start": FIRST_BIN, "width": coarse, "count": int(round((LAST_BIN - FIRST_BIN) / coarse))}
     # The scene's gate holds the fine bins; the coarse run gives every target the coarse gate.
-    for name, width, gate in (("fine_bins", args.bin_width, None), ("coarse_bins", coarse, coarse_gate)):
+    for name, width, gate in (("fine_bins", args.bin_width, None), ("coarse_bins", coarse, bins_gate(coarse))):
         e = experiment(heights, m, gate, args.iterations,
                        f"Recover {n * n} hidden heights from a {m} x {m} confocal scan, bins of {width:g} m")
         with open(os.path.join(args.out, f"{name}.experiment.json"), "w") as f:

@@ -178,7 +178,7 @@ void writeRunFigures(const fs::path& directory, const Experiment& experiment,
   constexpr size_t kMaxTargetLines = 8;
   const size_t targets = experiment.targets.size();
   const bool perTarget = targets > 1 && targets <= kMaxTargetLines;
-  LinePlot loss{perTarget || targets == 1 ? "Loss" : "Loss (" + std::to_string(targets) + " targets: each in log.csv)",
+  LinePlot loss{targets <= kMaxTargetLines ? "Loss" : "Loss (" + std::to_string(targets) + " targets: each in log.csv)",
                 "iteration", "loss", true, {}};
   loss.series.push_back({"total", iterations, column("loss")});
   if (perTarget)
