@@ -23,11 +23,8 @@ constexpr double kBound = 0.6;
 
 TEST(ExperimentConfocalScan, HiddenSurfaceRecoveredFromARelayWallScan) {
   test::TempDir dir;
-  const std::vector<double> errors =
-      test::experimentParameterErrors(kExperiment / "fine_bins.experiment.json", dir.path() / "fine", kIterations);
-  const double start = errors.front(), end = test::medianOfLast10(errors);
-  std::printf("  parameter error from %.5f: %.5f after %u iterations\n", start, end, kIterations);
-  EXPECT_LT(end, kBound * start);
+  const test::Recovery r = test::runRecovery(kExperiment / "fine_bins.experiment.json", dir.path() / "fine", kIterations);
+  EXPECT_LT(r.end, kBound * r.start);
 }
 
 }  // namespace

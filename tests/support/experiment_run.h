@@ -11,6 +11,13 @@ namespace vktg::test {
 std::vector<double> experimentParameterErrors(const std::filesystem::path& experiment, const std::filesystem::path& out,
                                               uint32_t iterations);
 
+// An experiment's recovery: its parameter error at the start and at the end (medianOfLast10) after
+// `iterations`; both are printed.
+struct Recovery {
+  double start = 0, end = 0;
+};
+Recovery runRecovery(const std::filesystem::path& experiment, const std::filesystem::path& out, uint32_t iterations);
+
 // An experiment's contrast: the variant expected to recover the parameters and the weaker one, run
 // from the same start (checked), each summarised by medianOfLast10 of its parameter error.
 struct Contrast {
