@@ -20,7 +20,7 @@
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
 
-void main() {
+void backpropPath() {
   uint path = gl_GlobalInvocationID.x;
   if (path >= push.args.w) return;
   uint n = tapeLength(path);
@@ -48,4 +48,9 @@ void main() {
     x1Bar = x2Bar;
     x2Bar = noAdjoint();
   }
+}
+
+void main() {
+  backpropPath();
+  countScatterFaults();
 }

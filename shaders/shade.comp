@@ -21,7 +21,7 @@
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
 
-void main() {
+void shadeHit() {
   uint parity = push.args.z & 1u;
   uint index = gl_GlobalInvocationID.x;
   if (index >= counters[kCounterRays0 + parity]) return;
@@ -191,4 +191,11 @@ void main() {
   paths[path] = ps;
   uint slot = atomicAdd(counters[kCounterRays0 + (parity ^ 1u)], 1u);
   rayQueues[(parity ^ 1u) * batch + slot] = path;
+}
+
+void main() {
+  shadeHit();
+#ifdef VKTG_ADJOINT
+  countScatterFaults();
+#endif
 }

@@ -49,7 +49,7 @@ LightEnd lightEnd(uvec4 record) {
   GpuLight light = lights[record.x];
   l.isPoint = sceneHasLightType(kLightPoint) && light.type == kLightPoint;
   l.uv = uintBitsToFloat(record.yz);
-  if (l.isPoint) {
+  if (l.isPoint || !sceneHasLightType(kLightAreaTriangle)) {
     l.position = light.positionIntensity.xyz;
     l.normal = vec3(0.0);
     l.emission = light.positionIntensity.w;
@@ -104,20 +104,28 @@ void pathConnectionAdjoint(ShadowRay r, ShadowAdjoint sa, uint path, float value
   TapePoint p = depth > 0u ? tapePoint(depth - 1u, path) : a;
   LightEnd l = lightEnd(sa.light);
   bool hasBsdf = depth > 0u;  // at the sensor its importance (constant) takes f's place
-  VertexAdjoint pBar = noAdjoint(), aBar = noAdjoint(), yBar = noAdjoint();
-  if (sa.middle.x == 0xffffffffu) {
-    Segment s = Segment(p.position, a.position, l.position, a.normal, l.normal, a.material, hasBsdf, !l.isPoint, !l.isPoint);
-    segmentAdjoint(s, valueWeight, lengthWeight, pBar, aBar, yBar);
+  // The connections this pass can hold (lib/nee.glsl's neeAtVertex): one segment a -> y from
+  // standard NEE unless only the boundary term runs; two, a -> m -> y through an ellipsoidal vertex,
+  // from ellipsoidal NEE or on the gate's jumps. Only those are compiled in, and both share the
+  // code of the first segment (a CPU device runs both sides of a branch).
+  const bool oneSegment = kSpecTermValue != kTermPathLength;
+  const bool twoSegments = kSpecNeeModeValue != kNeeStandard || kSpecTermValue != kTermInterior;
+  bool viaMiddle = twoSegments && !(oneSegment && sa.middle.x == 0xffffffffu);
+  vec2 mUv = uintBitsToFloat(sa.middle.yz);
+  SurfacePoint m = SurfacePoint(vec3(0.0), vec3(0.0), 0u);
+  if (viaMiddle) m = surfacePoint(sa.middle.x, mUv);
+  vec3 bPosition = viaMiddle ? m.position : l.position, bNormal = viaMiddle ? m.normal : l.normal;
+  bool bIsSurface = viaMiddle || !l.isPoint;
+  VertexAdjoint pBar = noAdjoint(), aBar = noAdjoint(), bBar = noAdjoint(), yBar = noAdjoint();
+  Segment first = Segment(p.position, a.position, bPosition, a.normal, bNormal, a.material, hasBsdf, bIsSurface, bIsSurface);
+  segmentAdjoint(first, valueWeight, lengthWeight, pBar, aBar, bBar);
+  if (viaMiddle) {
+    Segment second = Segment(a.position, m.position, l.position, m.normal, l.normal, shapes[m.shape].material, true,
+                             !l.isPoint, !l.isPoint);
+    segmentAdjoint(second, valueWeight, lengthWeight, aBar, bBar, yBar);
+    scatterSurfaceAdjoint(sa.middle.x, mUv, bBar, false);
   } else {
-    vec2 mUv = uintBitsToFloat(sa.middle.yz);
-    SurfacePoint m = surfacePoint(sa.middle.x, mUv);
-    uint mMaterial = shapes[m.shape].material;
-    VertexAdjoint mBar = noAdjoint();
-    Segment first = Segment(p.position, a.position, m.position, a.normal, m.normal, a.material, hasBsdf, true, true);
-    Segment second = Segment(a.position, m.position, l.position, m.normal, l.normal, mMaterial, true, !l.isPoint, !l.isPoint);
-    segmentAdjoint(first, valueWeight, lengthWeight, pBar, aBar, mBar);
-    segmentAdjoint(second, valueWeight, lengthWeight, aBar, mBar, yBar);
-    scatterSurfaceAdjoint(sa.middle.x, mUv, mBar, false);
+    yBar = bBar;
   }
   scatterLightEnd(l, sa.light.x, yBar, valueWeight);
   if (depth >= 1u) scatterSurfaceAdjoint(a.triangle, a.uv, aBar, onCameraRay(depth));
@@ -136,9 +144,9 @@ void traceConnection(uint slot) {
   if (pixel == kNoPixel) return;
   ShadowAdjoint sa = shadowAdjoint[slot];
   // Path-length boundary (a connection on a jump): only the length moves the path across the
-  // jump (gate centre: -1).
-  vec2 weights = r.info.z != kNoJump ? vec2(0.0, adjointJumpWeight(pixel, r.info.z))
-                                     : adjointGateWeights(pixel, r.p1Length.w);
+  // jump (gate centre: -1). A pass of one term holds connections of one kind only.
+  bool onJump = kSpecTermValue == kTermPathLength || (kSpecTermValue != kTermInterior && r.info.z != kNoJump);
+  vec2 weights = onJump ? vec2(0.0, adjointJumpWeight(pixel, r.info.z)) : adjointGateWeights(pixel, r.p1Length.w);
   weights *= r.p0Value.w;
   if (isnan(weights.x) || isinf(weights.x) || isnan(weights.y) || isinf(weights.y)) {
     atomicAdd(counters[kCounterNonFinite], 1u);
@@ -146,7 +154,7 @@ void traceConnection(uint slot) {
   }
   if (weights == vec2(0.0)) return;
   scatterGate(-weights.y);
-  if (r.info.w == kNoTape) cameraConnectionAdjoint(r, sa, weights.y);
+  if (kSpecCameraConnectionsValue != 0u) cameraConnectionAdjoint(r, sa, weights.y);
   else pathConnectionAdjoint(r, sa, path, weights.x, weights.y);
   return;
 #endif
@@ -179,7 +187,7 @@ void traceConnection(uint slot) {
 #endif
 }
 
-void main() {
+void traceConnections() {
   uint index = gl_GlobalInvocationID.x;
   if (index >= counters[kCounterShadow]) return;
   uint batch = frame.pathInfo.w;
@@ -190,4 +198,11 @@ void main() {
   // In slot order: the path's accumulator sees its contributions in the same order on every run.
   for (uint local = 0u; local < kShadowRaysPerPath; ++local)
     if ((mask & (1u << local)) != 0u) traceConnection(path * kShadowRaysPerPath + local);
+}
+
+void main() {
+  traceConnections();
+#ifdef VKTG_ADJOINT
+  countScatterFaults();
+#endif
 }

@@ -138,6 +138,36 @@ TEST(GradAdjoint, RotationRoughnessEmissionIntensity) {
   expectAdjointMatchesLanes(scene, {"spin", "gloss", "lamp_power", "bulb_power"}, options(16, 16));
 }
 
+// A first scale 2^60 finer than the one a gradient settles on: the largest accumulator would hold
+// 2^100, so samples overflow, the passes must report it (each invocation counts its faults once as
+// it ends), and the driver must redo the gradient at coarser scales (2^-20 each) until none
+// does. It ends 2^20 finer than the settled scale, so it equals the gradient found from the
+// settled one up to the accumulators' rounding, far below 1e-6 of the largest entry.
+TEST(GradAdjoint, OverflowingAccumulatorsAreRescaled) {
+  const Scene scene = roomScene();
+  const std::vector<std::string> names = {"block_x", "bulb_y", "floor_albedo", "t0"};
+  std::vector<uint32_t> indices;
+  for (const std::string& n : names) indices.push_back(findParameter(scene, n));
+  ParameterModel model(scene, indices);
+  std::vector<double> theta(model.size(), 0.0);
+  DeviceScene deviceScene(test::testRenderer().context(), model, theta, theta);
+  const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
+  const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
+  AdjointState settled;
+  lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), settled);
+  const LossGradient reference = lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), settled);
+  ASSERT_EQ(reference.attempts, 1u);
+  AdjointState fine;
+  fine.scale = std::ldexp(settled.scale, 60);
+  const LossGradient rescaled = lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), fine);
+  EXPECT_EQ(rescaled.attempts, 3u);
+  EXPECT_EQ(rescaled.stats.gradientOverflows, 0u);
+  double largest = 0;
+  for (double g : reference.theta) largest = std::max(largest, std::abs(g));
+  ASSERT_GT(largest, 0.0);
+  for (size_t k = 0; k < names.size(); ++k) EXPECT_NEAR(rescaled.theta[k], reference.theta[k], 1e-6 * largest) << names[k];
+}
+
 // A heightfield (four of its heights) under a near-delta gaussian with ellipsoidal connections and
 // antithetic pairs, lit by a point light.
 TEST(GradAdjoint, HeightfieldNearDeltaEllipsoidalAntithetic) {

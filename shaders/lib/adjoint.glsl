@@ -23,21 +23,28 @@ layout(std430, set = 0, binding = kBindingGradient) buffer GradientBlock { int64
 
 bool differentiates(uint targets) { return (kSpecAdjointTargetsValue & targets) != 0u; }
 
+// What scatter() could not add in this invocation: non-finite values, and values beyond the
+// accumulators' range (the driver then redoes the work with a coarser scale). Every pass that
+// scatters counts them once as it ends (countScatterFaults), not per scatter: a counter atomic
+// that no lane takes still costs a loop over the lanes on a CPU device.
+uint scatterNonFinite = 0u, scatterOverflows = 0u;
+
 // Adds `value` to accumulator `slot` as round(value * scale): integer sums do not depend on the
-// order of the adds. A value beyond the accumulators' range is counted, not added (the driver then
-// redoes the work with a coarser scale).
+// order of the adds.
 void scatter(uint slot, float value) {
   if (value == 0.0) return;
   float scaled = value * frame.adjointScale.x;
-  if (isnan(scaled)) {
-    atomicAdd(counters[kCounterNonFinite], 1u);
-    return;
-  }
   if (!(abs(scaled) < 4.0e18)) {
-    atomicAdd(counters[kCounterGradientOverflow], 1u);
+    if (isnan(scaled)) ++scatterNonFinite;
+    else ++scatterOverflows;
     return;
   }
   atomicAdd(gradient[slot], int64_t(round(scaled)));
+}
+
+void countScatterFaults() {
+  if (scatterNonFinite > 0u) atomicAdd(counters[kCounterNonFinite], scatterNonFinite);
+  if (scatterOverflows > 0u) atomicAdd(counters[kCounterGradientOverflow], scatterOverflows);
 }
 
 void scatterVertex(uint vertex, vec3 g) {

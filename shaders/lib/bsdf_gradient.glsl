@@ -6,7 +6,7 @@
 // wo are needed, since every caller reaches them through a normalisation (whose adjoint drops the
 // radial part), so each unit vector takes the two tangents of its own frame: six evaluations, and
 // one per material scalar asked for. A diffuse BSDF (albedo / pi on wi's side) has no geometric
-// derivative at all and costs nothing.
+// derivative at all and costs nothing; in a scene of diffuse surfaces the rest is not compiled.
 // Requires lib/common.glsl, lib/bindings.glsl (materials) and lib/bsdf_dual.glsl.
 #ifndef VKTG_BSDF_GRADIENT_GLSL
 #define VKTG_BSDF_GRADIENT_GLSL
@@ -34,6 +34,8 @@ BsdfLogGradient bsdfLogGradient(uint material, vec3 n, vec3 wi, vec3 wo, bool ge
     g.material.x = scalars ? 1.0 / m.albedo : 0.0;
     return g;
   }
+  // A scene of diffuse surfaces only compiles none of the rest (a CPU device would run it masked).
+  if ((kSpecMaterialMaskValue & ~(1u << kMaterialDiffuse)) == 0u) return g;
   const vec3 zero = vec3(0.0);
   if (geometry) {
     vec3 t, b;

@@ -1,5 +1,7 @@
 // Specialisation constants (ids in vktg/gpu/shared.h): the planner sets them per scene so the
 // driver compiles only the code that scene needs (materials, lights, gate, estimator, camera).
+// On a CPU device this is what a branch cannot do: lavapipe runs both sides of every branch with
+// the lanes masked, so code that is compiled in costs its time even where no lane takes it.
 #ifndef VKTG_SPECIALIZATION_GLSL
 #define VKTG_SPECIALIZATION_GLSL
 layout(constant_id = 0) const uint kSpecMaterialMaskValue = 7u;
@@ -12,6 +14,7 @@ layout(constant_id = 6) const uint kSpecTermValue = 0u;   // kTerm*
 layout(constant_id = 7) const uint kSpecAntitheticValue = 0u;
 layout(constant_id = 8) const uint kSpecAdjointTargetsValue = 0u;  // kAdjoint* bits (adjoint variants)
 layout(constant_id = 9) const uint kSpecEllipsoidSelectionValue = 0u;  // kEllipsoidDescend / kEllipsoidEnumerate
+layout(constant_id = 10) const uint kSpecCameraConnectionsValue = 0u;  // 1: connections from the camera
 
 bool sceneHasLightType(uint type) { return (kSpecLightMaskValue & (1u << type)) != 0u; }
 bool sceneHasMaterial(uint type) { return (kSpecMaterialMaskValue & (1u << type)) != 0u; }

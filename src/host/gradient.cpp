@@ -22,6 +22,7 @@ void addStats(RenderStats& total, const RenderStats& s) {
   total.silhouetteEdges = std::max(total.silhouetteEdges, s.silhouetteEdges);
   total.edgeSilhouettes += s.edgeSilhouettes;
   total.edgeConnected += s.edgeConnected;
+  total.gradientOverflows += s.gradientOverflows;
   total.batches += s.batches;
   total.batchSize = std::max(total.batchSize, s.batchSize);
   total.deviceBytes = std::max(total.deviceBytes, s.deviceBytes);

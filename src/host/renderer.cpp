@@ -288,6 +288,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   spec[gpu::kSpecAdjointTargets] = adjoint ? adjoint->targets : 0u;
   spec[gpu::kSpecEllipsoidSelection] =
       plan.ellipsoidSelection == EllipsoidSelection::Enumerate ? gpu::kEllipsoidEnumerate : gpu::kEllipsoidDescend;
+  spec[gpu::kSpecCameraConnections] = fromCamera ? 1u : 0u;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";

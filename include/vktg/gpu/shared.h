@@ -159,7 +159,8 @@ VKTG_CONST(uint, kSpecTerm, 6);           // kTerm* (derivative variants only)
 VKTG_CONST(uint, kSpecAntithetic, 7);     // 1: ellipsoidal connections in antithetic pairs s, 2 mu - s
 VKTG_CONST(uint, kSpecAdjointTargets, 8); // adjoint variants: kAdjoint* bits, what the gradient is taken of
 VKTG_CONST(uint, kSpecEllipsoidSelection, 9);  // kEllipsoidDescend / kEllipsoidEnumerate
-VKTG_CONST(uint, kSpecCount, 10);
+VKTG_CONST(uint, kSpecCameraConnections, 10);   // 1: the shadow queue holds connect_camera_boundary's connections
+VKTG_CONST(uint, kSpecCount, 11);
 
 // How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
 VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
