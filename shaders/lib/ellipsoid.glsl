@@ -67,8 +67,10 @@ struct EllipseArcs {
   vec3 baryAlpha;   // barycentrics (l0, l1, l2)(phi) = alpha + beta cos(phi) + gamma sin(phi)
   vec3 baryBeta;
   vec3 baryGamma;
-  float arcStart[3];   // radians, start in [0, 2 pi); an arc may run past 2 pi
-  float arcLength[3];
+  // Vectors, not arrays: indexed by a count that varies per lane, a vector is a few selects where a
+  // CPU device would keep an array in memory and gather from it lane by lane.
+  vec3 arcStart;       // radians, start in [0, 2 pi); an arc may run past 2 pi
+  vec3 arcLength;
   uint count;          // number of arcs
   float total;         // Phi_t: sum of arc lengths (radians)
   float weight;        // w_t: estimated clipped curve length (metres)
@@ -151,7 +153,7 @@ vec2 ellipseBarycentrics(EllipseArcs arcs, float phi) {
 // Maps u in [0, 1) uniformly onto the kept arcs.
 float ellipseArcPhi(EllipseArcs arcs, float u) {
   float target = u * arcs.total;
-  for (uint i = 0u; i < arcs.count; ++i) {
+  for (uint i = 0u; i < kEllipseMaxArcs && i < arcs.count; ++i) {
     if (target < arcs.arcLength[i] || i + 1u == arcs.count) return arcs.arcStart[i] + min(target, arcs.arcLength[i]);
     target -= arcs.arcLength[i];
   }
@@ -163,6 +165,16 @@ float ellipseCoareaRatio(EllipseArcs arcs, vec3 f1, vec3 f2, vec3 x) {
   return length(x - f1) * length(x - f2) * arcs.ratioScale;
 }
 
+// Compare-exchange: (a, b) in ascending order.
+void ellipseSortPair(inout float a, inout float b) {
+  float lower = min(a, b);
+  b = max(a, b);
+  a = lower;
+}
+
+// Root i of the sorted six (low: the first three).
+float ellipseRootAt(vec3 low, vec3 high, uint i) { return i < 3u ? low[i] : high[i - 3u]; }
+
 bool ellipseOnTriangle(vec3 f1, vec3 f2, float sPrime, vec3 p0, vec3 p1, vec3 p2, out EllipseArcs arcs) {
   arcs.origin = p0;
   arcs.centre = vec3(0.0);
@@ -171,7 +183,8 @@ bool ellipseOnTriangle(vec3 f1, vec3 f2, float sPrime, vec3 p0, vec3 p1, vec3 p2
   arcs.baryAlpha = vec3(0.0);
   arcs.baryBeta = vec3(0.0);
   arcs.baryGamma = vec3(0.0);
-  for (uint i = 0u; i < kEllipseMaxArcs; ++i) { arcs.arcStart[i] = 0.0; arcs.arcLength[i] = 0.0; }
+  arcs.arcStart = vec3(0.0);
+  arcs.arcLength = vec3(0.0);
   arcs.count = 0u;
   arcs.total = 0.0;
   arcs.weight = 0.0;
@@ -224,7 +237,10 @@ bool ellipseOnTriangle(vec3 f1, vec3 f2, float sPrime, vec3 p0, vec3 p1, vec3 p2
   // alpha + (beta, gamma).q = 0 cuts the unit circle: q = -alpha/rho dir +- h perp, with dir =
   // (beta, gamma)/rho, perp = (-gamma, beta)/rho, h = sqrt((rho - |alpha|)(rho + |alpha|))/rho.
   // (Algebraic, not psi +- acos(-alpha/rho): acos is imprecise near +-1 and on some drivers.)
-  float roots[6];
+  // The roots stay in registers: two per barycentric (a sentinel past 2 pi where it has none),
+  // ordered by a fixed sorting network, so no lane indexes memory (see EllipseArcs).
+  const float kNoRoot = 1e30;
+  vec3 rootA = vec3(kNoRoot), rootB = vec3(kNoRoot);
   uint k = 0u;
   for (uint i = 0u; i < 3u; ++i) {
     float al = arcs.baryAlpha[i];
@@ -236,8 +252,9 @@ bool ellipseOnTriangle(vec3 f1, vec3 f2, float sPrime, vec3 p0, vec3 p1, vec3 p2
       vec2 foot = (-al / rho) * dir;
       vec2 q0 = foot - h * perp;
       vec2 q1 = foot + h * perp;
-      roots[k++] = ellipseWrapAngle(ellipsoidAtan2(q0.y, q0.x));
-      roots[k++] = ellipseWrapAngle(ellipsoidAtan2(q1.y, q1.x));
+      rootA[i] = ellipseWrapAngle(ellipsoidAtan2(q0.y, q0.x));
+      rootB[i] = ellipseWrapAngle(ellipsoidAtan2(q1.y, q1.x));
+      k += 2u;
     }
   }
   if (k == 0u) {
@@ -247,20 +264,19 @@ bool ellipseOnTriangle(vec3 f1, vec3 f2, float sPrime, vec3 p0, vec3 p1, vec3 p2
       arcs.arcLength[0] = kTwoPi;
     }
   } else {
-    for (uint i = 1u; i < k; ++i) {
-      float v = roots[i];
-      uint j = i;
-      while (j > 0u && roots[j - 1u] > v) { roots[j] = roots[j - 1u]; --j; }
-      roots[j] = v;
-    }
+    float r0 = rootA.x, r1 = rootB.x, r2 = rootA.y, r3 = rootB.y, r4 = rootA.z, r5 = rootB.z;
+    ellipseSortPair(r1, r2); ellipseSortPair(r4, r5); ellipseSortPair(r0, r2); ellipseSortPair(r3, r5);
+    ellipseSortPair(r0, r1); ellipseSortPair(r3, r4); ellipseSortPair(r1, r4); ellipseSortPair(r0, r3);
+    ellipseSortPair(r2, r5); ellipseSortPair(r1, r3); ellipseSortPair(r2, r4); ellipseSortPair(r2, r3);
+    vec3 low = vec3(r0, r1, r2), high = vec3(r3, r4, r5);  // the k roots first, ascending
     // Intervals [roots[i], roots[i+1]) and the wrapping one; a kept interval adjacent to the
     // previous kept one extends it (zero-length intervals are transparent).
     bool prevKept = false;
     bool firstKept = false;
     bool seenFirst = false;
-    for (uint i = 0u; i < k; ++i) {
-      float start = roots[i];
-      float len = (i + 1u < k ? roots[i + 1u] : roots[0] + kTwoPi) - start;
+    for (uint i = 0u; i < 6u && i < k; ++i) {
+      float start = ellipseRootAt(low, high, i);
+      float len = (i + 1u < k ? ellipseRootAt(low, high, min(i + 1u, 5u)) : r0 + kTwoPi) - start;
       if (!(len > 0.0)) continue;
       bool kept = ellipseInsideAt(arcs, start + 0.5 * len);
       if (!seenFirst) { firstKept = kept; seenFirst = true; }
@@ -285,7 +301,7 @@ bool ellipseOnTriangle(vec3 f1, vec3 f2, float sPrime, vec3 p0, vec3 p1, vec3 p2
       arcs.count = last;
     }
   }
-  for (uint i = 0u; i < arcs.count; ++i) {
+  for (uint i = 0u; i < kEllipseMaxArcs && i < arcs.count; ++i) {
     arcs.total += arcs.arcLength[i];
     float speedSum = 0.0;
     for (uint j = 0u; j < kEllipseWeightNodes; ++j) {
