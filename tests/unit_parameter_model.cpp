@@ -119,6 +119,34 @@ TEST(ParameterModel, VertexOpsFollowDeclarationOrder) {
   EXPECT_EQ(std::bit_cast<uint32_t>(t.parameterOps[1].axisKind.w), uint32_t(ParameterKind::Rotate));
 }
 
+// The world axes an adjoint gradient accumulates per vertex (host/adjoint.cpp): a translation's
+// nonzero components, a displacement's direction, all three once a rotation is selected.
+TEST(ParameterModel, VertexMotionAxesAreTheComponentsParametersMoveAlong) {
+  const Scene scene = modelScene();
+  auto axes = [](const Scene& s, const std::vector<std::string>& names) {
+    std::vector<uint32_t> selected;
+    for (const std::string& n : names) selected.push_back(findParameter(s, n));
+    return ParameterModel(s, selected).vertexMotionAxes();
+  };
+  EXPECT_EQ(axes(scene, {"slide"}), glm::bvec3(true, false, false));
+  EXPECT_EQ(axes(scene, {"slide", "spin"}), glm::bvec3(true));
+  EXPECT_EQ(axes(scene, {"grey", "laser_y", "t0"}), glm::bvec3(false));
+  // The ground's transform tilts its height axis: every component moves.
+  EXPECT_EQ(axes(scene, {"h4"}), glm::bvec3(true));
+  const Scene flat = parseSceneJson(R"({
+    "version": 1,
+    "camera": {"type": "perspective", "position": [0, 1, 4], "look_at": [0, 0, 0], "resolution": [8, 8]},
+    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"name": "ground", "type": "heightfield", "resolution": [2, 2], "size": [2, 2],
+                "heights": [0, 0.1, 0.2, 0], "material": "m"}],
+    "lights": [{"type": "point", "name": "laser", "position": [0, 1, 1], "intensity": 2}],
+    "parameters": [{"type": "heightfield_heights", "shape": "ground", "name_prefix": "h"},
+                   {"name": "side", "type": "translate", "shape": "ground", "axis": [0, 0, 1]}]
+  })", "flat.json", ".");
+  EXPECT_EQ(axes(flat, {"h0", "h3"}), glm::bvec3(false, true, false));
+  EXPECT_EQ(axes(flat, {"h0", "side"}), glm::bvec3(false, true, true));
+}
+
 // The chain rule at a θ far from 0, where the translation's velocity is turned by the rotation
 // applied after it. Tolerance: central differences with step 1e-3 in float-rounded positions
 // (relative rounding 6e-8 of coordinates ~1, divided by 2e-3) plus the O(eps^2) curvature of the

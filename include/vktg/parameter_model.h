@@ -59,6 +59,9 @@ class ParameterModel {
 
   // What the selected parameters touch.
   bool movesVertices() const { return !m_opList.empty(); }
+  // The world axes along which some selected parameter moves a vertex: a translation's or a
+  // displacement's nonzero axis components, all three once a rotation is selected.
+  glm::bvec3 vertexMotionAxes() const;
   const std::vector<bool>& movingVertices() const { return m_movingVertex; }  // per vertex
   std::vector<bool> deformingVertices() const;  // per vertex: moved by a displacement (not rigidly with its shape)
   bool movesPointLights() const;

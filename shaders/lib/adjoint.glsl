@@ -47,11 +47,12 @@ void countScatterFaults() {
   if (scatterOverflows > 0u) atomicAdd(counters[kCounterGradientOverflow], scatterOverflows);
 }
 
+// The components no parameter moves vertices along are not compiled in (kAdjointVertexX/Y/Z).
 void scatterVertex(uint vertex, vec3 g) {
   uint slot = frame.gradientLayout.w + 3u * vertex;
-  scatter(slot, g.x);
-  scatter(slot + 1u, g.y);
-  scatter(slot + 2u, g.z);
+  if (differentiates(kAdjointVertexX)) scatter(slot, g.x);
+  if (differentiates(kAdjointVertexY)) scatter(slot + 1u, g.y);
+  if (differentiates(kAdjointVertexZ)) scatter(slot + 2u, g.z);
 }
 
 void scatterGate(float g) {

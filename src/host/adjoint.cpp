@@ -19,7 +19,11 @@ GradientLayout gradientLayout(const Scene& scene, const PreparedScene& prepared)
 
 uint32_t adjointTargets(const ParameterModel& model) {
   uint32_t bits = 0;
-  if (model.movesVertices()) bits |= gpu::kAdjointVertices;
+  if (model.movesVertices()) {
+    const glm::bvec3 axes = model.vertexMotionAxes();
+    bits |= gpu::kAdjointVertices | (axes.x ? gpu::kAdjointVertexX : 0u) | (axes.y ? gpu::kAdjointVertexY : 0u) |
+            (axes.z ? gpu::kAdjointVertexZ : 0u);
+  }
   if (model.touchesMaterials()) bits |= gpu::kAdjointMaterials;
   if (model.touchesEmission()) bits |= gpu::kAdjointEmission;
   if (model.movesPointLights() || model.touchesIntensity()) bits |= gpu::kAdjointLights;

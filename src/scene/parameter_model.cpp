@@ -95,6 +95,17 @@ std::vector<bool> ParameterModel::movingShapes() const {
   return out;
 }
 
+glm::bvec3 ParameterModel::vertexMotionAxes() const {
+  glm::bvec3 axes(false);
+  for (size_t k = 0; k < size(); ++k) {
+    const Parameter& p = parameter(k);
+    if (p.kind == ParameterKind::Rotate) return glm::bvec3(true);
+    if (p.kind == ParameterKind::Translate || p.kind == ParameterKind::Displace)
+      axes = glm::bvec3(axes.x || p.axis.x != 0.0f, axes.y || p.axis.y != 0.0f, axes.z || p.axis.z != 0.0f);
+  }
+  return axes;
+}
+
 bool ParameterModel::movesPointLights() const {
   for (size_t k = 0; k < size(); ++k)
     if (parameter(k).kind == ParameterKind::LightPosition) return true;

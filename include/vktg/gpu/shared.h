@@ -172,6 +172,11 @@ VKTG_CONST(uint, kAdjointMaterials, 2);   // albedo, roughness, ior
 VKTG_CONST(uint, kAdjointEmission, 4);    // emitted radiance of shapes
 VKTG_CONST(uint, kAdjointLights, 8);      // point-light positions and intensities
 VKTG_CONST(uint, kAdjointGate, 16);       // the gate's centre
+// With kAdjointVertices: the world axes some parameter moves vertices along. Only these components
+// of a vertex's gradient are accumulated (a heightfield's heights need y alone).
+VKTG_CONST(uint, kAdjointVertexX, 32);
+VKTG_CONST(uint, kAdjointVertexY, 64);
+VKTG_CONST(uint, kAdjointVertexZ, 128);
 
 VKTG_CONST(uint, kTermInterior, 0);       // d/dθ [W(L) f] along sampled paths
 VKTG_CONST(uint, kTermPathLength, 1);     // paths on L = s at the gate's jumps, weighted ΔW(s) dL/dθ
