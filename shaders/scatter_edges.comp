@@ -29,7 +29,7 @@ void main() {
   float weight = 0.0;
   for (uint k = 0u; k < layers; ++k) weight += adjointOf(pixel, k) * pathAccum[slot * layers + k];
   if (isnan(weight) || isinf(weight)) {
-    atomicAdd(counters[kCounterNonFinite], 1u);
+    ++scatterNonFinite;  // counted as the pass ends
     return;
   }
   if (weight == 0.0) return;

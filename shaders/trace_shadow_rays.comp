@@ -149,7 +149,7 @@ void traceConnection(uint slot) {
   vec2 weights = onJump ? vec2(0.0, adjointJumpWeight(pixel, r.info.z)) : adjointGateWeights(pixel, r.p1Length.w);
   weights *= r.p0Value.w;
   if (isnan(weights.x) || isinf(weights.x) || isnan(weights.y) || isinf(weights.y)) {
-    atomicAdd(counters[kCounterNonFinite], 1u);
+    ++scatterNonFinite;  // counted as the pass ends
     return;
   }
   if (weights == vec2(0.0)) return;

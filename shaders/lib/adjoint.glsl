@@ -23,8 +23,9 @@ layout(std430, set = 0, binding = kBindingGradient) buffer GradientBlock { int64
 
 bool differentiates(uint targets) { return (kSpecAdjointTargetsValue & targets) != 0u; }
 
-// What scatter() could not add in this invocation: non-finite values, and values beyond the
-// accumulators' range (the driver then redoes the work with a coarser scale). Every pass that
+// What scatter() could not add in this invocation: non-finite values (and non-finite adjoint
+// weights the passes meet before scattering), and values beyond the accumulators' range (the
+// driver then redoes the work with a coarser scale). Every pass that
 // scatters counts them once as it ends (countScatterFaults), not per scatter: a counter atomic
 // that no lane takes still costs a loop over the lanes on a CPU device.
 uint scatterNonFinite = 0u, scatterOverflows = 0u;
