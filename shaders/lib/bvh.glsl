@@ -31,15 +31,28 @@ bool traceBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out fl
   tHit = -1.0;
   uvHit = vec2(0.0);
   triHit = 0u;
-  // While-while order (Aila and Laine 2009): each lane first walks inner nodes until it stands on
-  // a leaf, then the lanes test their leaves' triangles together. The order in which one lane visits
-  // nodes is unchanged; but a device that runs both sides of a branch with the lanes masked (a CPU)
-  // no longer pays for a leaf's triangle loop at every step some other lane takes through a box.
   while (true) {
     GpuBvhNode n = loadBvhNode(node);
     uint count = floatBitsToUint(n.rightMinCount.w);
-    bool finished = false;
-    while (count == 0u) {
+    if (count > 0u) {
+      uint first = floatBitsToUint(n.rightMaxFirst.w);
+      for (uint i = first; i < first + count; ++i) {
+        GpuTriangle tri = loadTriangle(i);
+        float t;
+        vec2 uv;
+        // Tested against the full window: a hit at exactly tBest with a smaller index still wins.
+        if (!intersectTrianglePrepared(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, invDir, axes, tMin, tMax, t, uv))
+          continue;
+        if (!found || t < tBest || (t == tBest && i < triHit)) {
+          found = true;
+          tBest = t;
+          tHit = t;
+          uvHit = uv;
+          triHit = i;
+          if (anyHit) return true;
+        }
+      }
+    } else {
       vec2 l = slabInterval(n.leftMinLeftIndex.xyz, n.leftMaxRightIndex.xyz, origin, invDir);
       vec2 r = slabInterval(n.rightMinCount.xyz, n.rightMaxFirst.xyz, origin, invDir);
       bool hitLeft = max(l.x, tMin) <= min(l.y, tBest);
@@ -48,39 +61,14 @@ bool traceBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out fl
       uint rightNode = floatBitsToUint(n.leftMaxRightIndex.w);
       if (hitLeft && hitRight) {
         bool leftFirst = l.x <= r.x;
-        if (size == kBvhStackSize) {
-          finished = true;
-          break;
-        }
+        if (size == kBvhStackSize) break;
         stack[size++] = leftFirst ? rightNode : leftNode;
         node = leftFirst ? leftNode : rightNode;
-      } else if (hitLeft || hitRight) {
-        node = hitLeft ? leftNode : rightNode;
-      } else if (size == 0u) {
-        finished = true;
-        break;
-      } else {
-        node = stack[--size];
-      }
-      n = loadBvhNode(node);
-      count = floatBitsToUint(n.rightMinCount.w);
-    }
-    if (finished) break;
-    uint first = floatBitsToUint(n.rightMaxFirst.w);
-    for (uint i = first; i < first + count; ++i) {
-      GpuTriangle tri = loadTriangle(i);
-      float t;
-      vec2 uv;
-      // Tested against the full window: a hit at exactly tBest with a smaller index still wins.
-      if (!intersectTrianglePrepared(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, invDir, axes, tMin, tMax, t, uv))
         continue;
-      if (!found || t < tBest || (t == tBest && i < triHit)) {
-        found = true;
-        tBest = t;
-        tHit = t;
-        uvHit = uv;
-        triHit = i;
-        if (anyHit) return true;
+      }
+      if (hitLeft || hitRight) {
+        node = hitLeft ? leftNode : rightNode;
+        continue;
       }
     }
     if (size == 0u) break;
