@@ -196,8 +196,9 @@ void traceConnections() {
   rayQueues[3u * batch + path] = 0u;
   atomicAdd(counters[kCounterShadowRays], uint(bitCount(mask)));
   // In slot order: the path's accumulator sees its contributions in the same order on every run.
-  for (uint local = 0u; local < kShadowRaysPerPath; ++local)
-    if ((mask & (1u << local)) != 0u) traceConnection(path * kShadowRaysPerPath + local);
+  // Only the filled slots: a loop over all of them would run a connection's code, traversals
+  // included, for every empty slot on a device that masks lanes rather than branching (a CPU).
+  for (uint left = mask; left != 0u; left &= left - 1u) traceConnection(path * kShadowRaysPerPath + uint(findLSB(left)));
 }
 
 void main() {
