@@ -25,9 +25,9 @@ bool differentiates(uint targets) { return (kSpecAdjointTargetsValue & targets) 
 
 // What scatter() could not add in this invocation: non-finite values (and non-finite adjoint
 // weights the passes meet before scattering), and values beyond the accumulators' range (the
-// driver then redoes the work with a coarser scale). Every pass that
-// scatters counts them once as it ends (countScatterFaults), not per scatter: a counter atomic
-// that no lane takes still costs a loop over the lanes on a CPU device.
+// driver then redoes the work with a coarser scale). Every pass that includes this file must call
+// countScatterFaults() as its main() ends: the faults are counted once per invocation, not per
+// scatter, because a counter atomic that no lane takes still costs a loop over the lanes on a CPU.
 uint scatterNonFinite = 0u, scatterOverflows = 0u;
 
 // Adds `value` to accumulator `slot` as round(value * scale): integer sums do not depend on the
