@@ -188,6 +188,34 @@ TEST(CliRender, ExplainPrintsThePlan) {
   EXPECT_NE(r.out.find("4.5"), std::string::npos) << "the cutoff at the gate's end must be explained\n" << r.describe();
 }
 
+TEST(CliRender, ExplainShowsThePilotThatChoseTheEstimatorOrWhyNone) {
+  TempDir dir;
+  const std::vector<std::string> base = {"render", "--resolution", "16x16", "--gate", "gaussian:5,0.05", "--explain",
+                                         "--quiet", "--out", (dir / "p.exr").string()};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return runOk(args, dir).out;
+  };
+  // A 16x16 render takes a fraction of a second: a pilot of all three estimators would not pay.
+  const std::string stopped = with({"--spp", "256"});
+  EXPECT_NE(stopped.find("no pilot: with"), std::string::npos) << stopped;
+  EXPECT_NE(stopped.find("more than 25% of it"), std::string::npos) << stopped;
+  const std::string piloted = with({"--spp", "256", "--pilot", "on"});
+  EXPECT_NE(piloted.find("from a pilot of 8 spp per estimator"), std::string::npos) << piloted;
+  for (const char* estimator : {"standard ", "ellipsoidal ", "mis "})
+    EXPECT_NE(piloted.find(std::string("  ") + estimator), std::string::npos) << "no pilot line for " << estimator << "\n" << piloted;
+  EXPECT_NE(piloted.find("relMSE x time"), std::string::npos) << piloted;
+  const std::string small = with({"--spp", "64", "--pilot", "on"});
+  EXPECT_NE(small.find("no pilot: 64 spp is too few"), std::string::npos) << small;
+  const std::string ruled = with({"--spp", "256", "--pilot", "off"});
+  EXPECT_EQ(ruled.find("pilot"), std::string::npos) << ruled;
+  EXPECT_NE(ruled.find("path-length spread"), std::string::npos) << "the rule decides\n" << ruled;
+  CliResult bad = runVktg({"render", "--pilot", "sometimes", "--out", (dir / "q.exr").string()}, {.cwd = dir.path()});
+  EXPECT_NE(bad.exitCode, 0) << bad.describe();
+  EXPECT_NE(bad.err.find("--pilot: 'sometimes' is not one of auto, on, off"), std::string::npos) << bad.describe();
+}
+
 TEST(CliRender, SameSeedGivesIdenticalImagesAndAnotherSeedDoesNot) {
   TempDir dir;
   auto render = [&](const std::string& name, const std::string& seed) {

@@ -11,6 +11,7 @@
 #include "host/bench_bvh.h"
 #include "host/bench_nee.h"
 #include "host/bench_optimize.h"
+#include "host/bench_pilot.h"
 #include "host/bench_trace.h"
 #include "host/bench_grad.h"
 #include "host/bench_render.h"
@@ -21,7 +22,7 @@ const CommandSpec& benchSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "bench";
-    s.usage = "bench render|grad|optimize|nee|trace|bvh [options]";
+    s.usage = "bench render|grad|optimize|nee|pilot|trace|bvh [options]";
     s.description =
         "Measures accuracy versus time: relMSE against an exact (confocal plane) or cached high-sample\n"
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
@@ -33,7 +34,9 @@ const CommandSpec& benchSpec() {
         "heightfield (each term alone and all three) relative to a render, as n grows, against forward-mode\n"
         "lanes, and of a whole iteration of `vktg optimize`. `bench nee`: the cost per path of standard NEE and of\n"
         "ellipsoidal NEE (triangles chosen by BVH descent or by enumeration) in the default room with an n x n\n"
-        "heightfield on its floor, as n grows; every point renders until a time budget. Writes bench.csv and\n"
+        "heightfield on its floor, as n grows; every point renders until a time budget. `bench pilot`: how well the\n"
+        "pilot that picks NEE for `vktg render` predicts each estimator's time and relMSE (measured from --runs seeds\n"
+        "of the full render), and what its choice and the gate-width rule's cost against the best. Writes bench.csv and\n"
         "table.md (and plot.png, except nee and trace) into the output directory. `bench trace [SCENE]`: rays per\n"
         "second of the BVH traversal, closest and any hit, primary and incoherent rays, on SCENE or on the default\n"
         "room and rooms with heightfields of --sizes, beside Embree on the host's cores when built with it.\n"
@@ -77,9 +80,9 @@ int runBench(const std::vector<std::string>& argv) {
     return 0;
   }
   const std::string which = args.positionals.empty() ? "" : args.positionals[0];
-  const std::vector<std::string> benchmarks = {"render", "grad", "optimize", "nee", "trace", "bvh"};
+  const std::vector<std::string> benchmarks = {"render", "grad", "optimize", "nee", "pilot", "trace", "bvh"};
   if (std::find(benchmarks.begin(), benchmarks.end(), which) == benchmarks.end())
-    throw UsageError("which benchmark? `vktg bench render`, `grad`, `optimize`, `nee`, `trace` or `bvh`");
+    throw UsageError("which benchmark? `vktg bench render`, `grad`, `optimize`, `nee`, `pilot`, `trace` or `bvh`");
   if (which != "trace" && args.positionals.size() > 1)
     throw UsageError("`vktg bench " + which + "` takes no scene file");
   if (which == "bvh") {
@@ -134,6 +137,11 @@ int runBench(const std::vector<std::string>& argv) {
     static_cast<BenchOptions&>(bench) = options;
     if (auto sizes = args.get("--sizes")) bench.sizes = parseSizes(*sizes);
     writeBenchNeeReport(benchNee(*context, bench), bench, command);
+    log("wrote " + options.outDir.string() + "/{bench.csv,table.md}");
+    return finishWithValidationCheck(*context, 0);
+  }
+  if (which == "pilot") {
+    writeBenchPilotReport(benchPilot(*context, options), options, command);
     log("wrote " + options.outDir.string() + "/{bench.csv,table.md}");
     return finishWithValidationCheck(*context, 0);
   }

@@ -40,6 +40,8 @@ double median(std::vector<double> values);
 // relMSE = mean over pixels of (x - r)^2 / (r^2 + eps), eps = 1e-2 mean(r)^2 (0 for one pixel):
 // the usual definition, made scale-free so dark pixels do not dominate.
 double relMse(const std::vector<float>& x, const std::vector<float>& reference);
+// The expected relMSE of an unbiased image whose pixels' means have these variances (same eps).
+double expectedRelMse(const std::vector<float>& variance, const std::vector<float>& reference);
 double peakHostMiB();
 // Plots a bench CSV (scene, gate, estimator, spp, seconds, relmse, ...) with tools/plot_bench.py.
 void plotBenchCsv(const std::filesystem::path& csv, const std::filesystem::path& png,

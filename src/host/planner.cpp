@@ -1,20 +1,21 @@
 #include "host/planner.h"
 
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 
 #include "vktg/error.h"
 
 namespace vktg {
-namespace {
 
-std::string format(const char* fmt, double a, double b = 0, double c = 0) {
-  char text[256];
-  std::snprintf(text, sizeof text, fmt, a, b, c);
+std::string formatReason(const char* fmt, ...) {
+  char text[512];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(text, sizeof text, fmt, args);
+  va_end(args);
   return text;
 }
-
-}  // namespace
 
 const char* neeModeName(NeeMode mode) {
   switch (mode) {
@@ -36,7 +37,7 @@ const char* ellipsoidSelectionName(EllipsoidSelection selection) {
 }
 
 RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, NeeMode requested,
-                      EllipsoidSelection selection) {
+                      EllipsoidSelection selection, const std::vector<std::string>& neeNotes) {
   RenderPlan plan;
   const Gate& gate = setup.gate;
   plan.layers = gate.layers();
@@ -59,11 +60,14 @@ RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, N
     } else {
       double ratio = plan.gateWidth / plan.pathSpread;
       mode = ratio < kEllipsoidalGateFraction ? NeeMode::Ellipsoidal : NeeMode::Standard;
-      plan.reasons.push_back(format(mode == NeeMode::Ellipsoidal
-                                        ? "ellipsoidal NEE: gate width %.4g m is %.2g of the scene's path-length spread %.4g m (< 0.05); standard NEE would miss the gate with most samples"
-                                        : "standard NEE: gate width %.4g m is %.2g of the scene's path-length spread %.4g m (>= 0.05); enough standard samples land in the gate",
-                                    plan.gateWidth, ratio, plan.pathSpread));
+      plan.reasons.push_back(formatReason(mode == NeeMode::Ellipsoidal
+                                              ? "ellipsoidal NEE: gate width %.4g m is %.2g of the scene's path-length spread %.4g m (< 0.05); standard NEE would miss the gate with most samples"
+                                              : "standard NEE: gate width %.4g m is %.2g of the scene's path-length spread %.4g m (>= 0.05); enough standard samples land in the gate",
+                                          plan.gateWidth, ratio, plan.pathSpread));
     }
+    plan.reasons.insert(plan.reasons.end(), neeNotes.begin(), neeNotes.end());
+  } else if (!fromScene && !neeNotes.empty()) {
+    plan.reasons.insert(plan.reasons.end(), neeNotes.begin(), neeNotes.end());
   } else {
     plan.reasons.push_back(std::string(neeModeName(mode)) + " NEE: requested");
   }
@@ -74,7 +78,7 @@ RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, N
     const size_t triangles = prepared.triangles.size();
     if (selection == EllipsoidSelection::Auto) {
       selection = EllipsoidSelection::Descend;
-      plan.reasons.push_back(format("ellipsoidal connections choose their triangle by a stochastic BVH descent: cost grows with the tree's depth, not with the %.0f triangles", double(triangles)));
+      plan.reasons.push_back(formatReason("ellipsoidal connections choose their triangle by a stochastic BVH descent: cost grows with the tree's depth, not with the %zu triangles", triangles));
     } else {
       plan.reasons.push_back(std::string("ellipsoidal connections choose their triangle by ") +
                              (selection == EllipsoidSelection::Descend ? "a stochastic BVH descent" : "enumerating every triangle the shell meets") +
@@ -87,17 +91,17 @@ RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, N
                                ? "point sensor: ellipsoidal connections start at the sensor; direct light uses standard NEE"
                                : "pinhole camera: paths of 1-2 segments use standard NEE and emitter hits, longer ones ellipsoidal connections");
   if (gate.type != GateType::Steady)
-    plan.reasons.push_back(format("paths end once their length passes %.4g m (the gate's support); Russian roulette only after %.4g m",
-                                  gate.supportMax(), gate.supportMin()));
+    plan.reasons.push_back(formatReason("paths end once their length passes %.4g m (the gate's support); Russian roulette only after %.4g m",
+                                        gate.supportMax(), gate.supportMin()));
   else
-    plan.reasons.push_back(format("steady gate: paths end by Russian roulette from depth %.0f or at max depth %.0f",
-                                  setup.settings.rouletteDepth, setup.settings.maxDepth));
+    plan.reasons.push_back(formatReason("steady gate: paths end by Russian roulette from depth %u or at max depth %u",
+                                        setup.settings.rouletteDepth, setup.settings.maxDepth));
   std::string materials;
   const char* names[] = {"diffuse", "conductor", "dielectric"};
   for (uint32_t t = 0; t < 3; ++t)
     if (prepared.materialMask & (1u << t)) materials += std::string(materials.empty() ? "" : ", ") + names[t];
   plan.reasons.push_back("material code compiled in: " + materials);
-  if (plan.layers > 1) plan.reasons.push_back(format("transient stack: %.0f bins share every path", plan.layers));
+  if (plan.layers > 1) plan.reasons.push_back(formatReason("transient stack: %u bins share every path", plan.layers));
   return plan;
 }
 

@@ -46,10 +46,15 @@ inline constexpr double kEllipsoidalGateFraction = 0.05;
 inline uint32_t firstEllipsoidVertex(CameraType camera) { return camera == CameraType::PointSensor ? 0 : 1; }
 
 // `requested` and `selection` override the scene's setting and the planner's choice unless Auto.
-// Throws vktg::Error for impossible requests (ellipsoidal NEE with a steady gate).
+// `neeNotes` say how `requested` was measured (they replace "requested"), or, with Auto, why no
+// measurement was made (they follow the rule's reason). Throws vktg::Error for impossible requests
+// (ellipsoidal NEE with a steady gate).
 RenderPlan planRender(const RenderSetup& setup, const PreparedScene& prepared, NeeMode requested,
-                      EllipsoidSelection selection = EllipsoidSelection::Auto);
+                      EllipsoidSelection selection = EllipsoidSelection::Auto,
+                      const std::vector<std::string>& neeNotes = {});
 std::string explainPlan(const RenderPlan& plan);
+// printf into a reason line (at most 511 characters).
+std::string formatReason(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 const char* neeModeName(NeeMode mode);
 const char* ellipsoidSelectionName(EllipsoidSelection selection);
 

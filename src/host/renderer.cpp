@@ -134,7 +134,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   const PreparedScene& prepared = deviceScene.prepared();
   const GpuScene& gpuScene = deviceScene.gpu();
   RenderResult result;
-  result.plan = planRender(setup, prepared, options.nee, options.ellipsoidSelection);
+  result.plan = planRender(setup, prepared, options.nee, options.ellipsoidSelection, options.neeNotes);
   const RenderPlan& plan = result.plan;
   const RenderSettings& settings = setup.settings;
 

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "host/adjoint.h"
 #include "host/device_scene.h"
@@ -31,6 +32,7 @@ struct AdjointTarget {
 
 struct RenderOptions {
   NeeMode nee = NeeMode::Auto;              // overrides the scene's render.nee unless Auto
+  std::vector<std::string> neeNotes;        // how `nee` was chosen, for the plan (see planRender)
   EllipsoidSelection ellipsoidSelection = EllipsoidSelection::Auto;  // overrides the planner's unless Auto
   uint64_t memoryBudget = 512ull << 20;     // bytes for wavefront state + film (`--mem`)
   bool gateCutoff = true;                   // end paths whose length passed the gate (bench compares)
