@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Pass sample_edges (the visibility-boundary term; lib/edge.glsl has the mathematics): one edge
 // sample per invocation. Picks a point y on a silhouette-capable edge (by length) and one of three
-// strategies (kPrimary*, kToLight* probabilities):
+// strategies (kPrimary*, kToLight* probabilities; by blocks of samples, see edgeStrategy):
 //   primary:   the segment from the camera (sensor) through y; behind a pinhole both sides of the
 //              silhouette are traced (the ray just past the edge and the ray onto its face), at
 //              a point sensor only the unoccluded side (its first hits are material points);
@@ -37,10 +37,31 @@ layout(push_constant) uniform Push { PassPush push; };
 // How far from the edge the traced rays pass, in ray epsilons: far enough that neither of the
 // edge's own faces is hit by rounding, near enough to see what the boundary segment sees.
 const float kEdgeOffsetEpsilons = 8.0;
-// Strategy probabilities: shadows of direct light are usually the largest secondary share and the
-// uniform direction rarely finds a small light, hence the split.
 const uint kRngDimEdgeWalk = 8u;  // + walk step: the camera side's numbers (stream kNoPixel)
-const float kPrimaryProbability = 0.35, kToLightProbability = 0.45, kSecondaryProbability = 0.2;
+// Strategy probabilities: shadows of direct light are usually the largest secondary share and the
+// uniform direction rarely finds a small light, hence the split: 7, 9 and 4 blocks of a cycle of 20.
+//
+// The strategy goes by block of kEdgeStrategyBlock consecutive samples, the cycle rotated by a
+// whole number of blocks drawn from the render's seed. For any one sample that offset makes its
+// strategy's block uniform over the cycle, so each strategy has exactly its probability and the
+// weights 1 / probability stay right; but invocations that run together now share one strategy. A
+// CPU device runs every branch that any lane of its SIMD group takes (three strategies, five BVH
+// traversals, per group when the choice was per sample), and a GPU warp diverges on the same.
+const uint kEdgeStrategyBlock = 32u, kEdgeStrategyCycle = 20u;
+const uint kPrimaryBlocks = 7u, kToLightBlocks = 9u;
+const float kPrimaryProbability = float(kPrimaryBlocks) / float(kEdgeStrategyCycle);
+const float kToLightProbability = float(kToLightBlocks) / float(kEdgeStrategyCycle);
+const float kSecondaryProbability = 1.0 - kPrimaryProbability - kToLightProbability;
+const uint kEdgeStrategyPrimary = 0u, kEdgeStrategyToLight = 1u, kEdgeStrategySecondary = 2u;
+
+uint edgeStrategy(uint sampleIndex) {
+  // The offset's stream: no edge sample has index 0xffffffff (a render holds fewer than 2^32).
+  uint offset = hash4(uvec4(kNoPixel, 0xffffffffu, kRngDimCamera, frame.image.w)).x % kEdgeStrategyCycle;
+  uint block = (sampleIndex / kEdgeStrategyBlock + offset) % kEdgeStrategyCycle;
+  return block < kPrimaryBlocks ? kEdgeStrategyPrimary
+         : block < kPrimaryBlocks + kToLightBlocks ? kEdgeStrategyToLight
+                                                   : kEdgeStrategySecondary;
+}
 
 // x_a at depth 1 behind a pinhole stays on its camera ray (the interior pass's parametrisation).
 bool endAOnCameraRay(uint depth) { return depth == 1u && kSpecCameraTypeValue == kCameraPerspective; }
@@ -286,7 +307,8 @@ void main() {
   float pY = e.inward1.w / distance(e.p0.xyz, e.p1.xyz);
   float offset = kEdgeOffsetEpsilons * frame.sceneInfo.x;
   vec4 u2 = rngNext4(rng);
-  if (u.z < kPrimaryProbability) primarySample(i, sampleIndex, edge, e, t, y, pY, offset);
-  else if (u.z < kPrimaryProbability + kToLightProbability) toLightSample(i, sampleIndex, edge, e, t, y, pY, offset, u2.xyz);
+  uint strategy = edgeStrategy(sampleIndex);
+  if (strategy == kEdgeStrategyPrimary) primarySample(i, sampleIndex, edge, e, t, y, pY, offset);
+  else if (strategy == kEdgeStrategyToLight) toLightSample(i, sampleIndex, edge, e, t, y, pY, offset, u2.xyz);
   else secondarySample(i, sampleIndex, edge, e, t, y, pY, offset, u2.xy);
 }
