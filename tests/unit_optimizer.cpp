@@ -187,6 +187,28 @@ TEST(Optimizer, RestoredStateContinuesBitForBit) {
   }
 }
 
+TEST(Optimizer, AStepThatOverflowsIsRefusedAndLeavesThetaAndStateAsTheyWere) {
+  // SGD: a finite gradient times a large rate leaves the doubles.
+  Optimizer plain(sgd(1e10, 0.9), parameters(2));
+  std::vector<double> theta{1.0, 2.0};
+  plain.step(theta, {1.0, 1.0});
+  const OptimizerState before = plain.state();
+  const std::vector<double> thetaBefore = theta;
+  expectError([&] { plain.step(theta, {1.0, 1e300}); }, {"\"p1\"", "overflows", "learning rate", "θ is left as it was"});
+  EXPECT_EQ(theta, thetaBefore);
+  EXPECT_EQ(plain.state().steps, before.steps);
+  EXPECT_EQ(plain.state().first, before.first);
+  // Adam: the step itself is bounded, but g^2 overflows the second moment, which would then stay
+  // infinite and freeze the parameter for the rest of the run.
+  Optimizer adamOptimizer(adam(0.1), parameters(1));
+  std::vector<double> one{1.0};
+  expectError([&] { adamOptimizer.step(one, {1e200}); }, {"\"p0\"", "overflows"});
+  EXPECT_EQ(one, std::vector<double>{1.0});
+  EXPECT_EQ(adamOptimizer.state().steps, 0u);
+  adamOptimizer.step(one, {1e100});  // large but representable: taken
+  EXPECT_NEAR(one[0], 0.9, 1e-12);
+}
+
 TEST(Optimizer, Errors) {
   Optimizer optimizer(adam(0.1), parameters(2));
   std::vector<double> theta{1.0, 2.0};
