@@ -75,6 +75,22 @@ TEST(CliFaults, MalformedFaultInjectionIsRejected) {
                            {"VKTG_INJECT_FAULT", "submit:x"});
 }
 
+TEST(CliFaults, AnObjectNeverDestroyedFailsTheRunAtExit) {
+  // The validation layer names what was never destroyed only when the device goes, after the
+  // command's own check: the context reports it and main() turns the exit status into 3.
+  TempDir dir;
+  CliResult r = runVktg({"render", "--spp", "1", "--resolution", "8x8", "--quiet", "--out", (dir / "l.exr").string()},
+                        {.env = {{"VKTG_INJECT_FAULT", "leak:1"}}, .cwd = dir.path()});
+  EXPECT_EQ(r.exitCode, 3) << r.describe();
+  EXPECT_NE(r.err.find("vktg: validation at exit:"), std::string::npos) << r.describe();
+  EXPECT_NE(r.err.find("VkDeviceMemory"), std::string::npos) << r.describe();
+  // Without the leak the same run is clean.
+  CliResult clean = runVktg({"render", "--spp", "1", "--resolution", "8x8", "--quiet", "--out", (dir / "c.exr").string()},
+                            {.cwd = dir.path()});
+  EXPECT_EQ(clean.exitCode, 0) << clean.describe();
+  EXPECT_EQ(clean.err.find("validation"), std::string::npos) << clean.describe();
+}
+
 class CliInterrupt : public ::testing::TestWithParam<int> {};
 
 TEST_P(CliInterrupt, StopsBetweenBatchesWithoutOutput) {

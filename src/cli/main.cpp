@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "host/interrupt.h"
 #include "host/vk_check.h"
+#include "host/vk_context.h"
 #include "vktg/error.h"
 
 namespace {
@@ -53,7 +54,10 @@ int main(int argc, char** argv) {
   for (const auto& c : kSubcommands) {
     if (command != c.name) continue;
     try {
-      return c.run(args);
+      const int status = c.run(args);
+      // A validation message at device destruction (an object never destroyed) fails the run as
+      // any other validation message does (exit status 3).
+      return status == 0 && vktg::validationFailedAtExit() ? 3 : status;
     } catch (const vktg::Interrupted& e) {
       std::fprintf(stderr, "vktg: error: %s\n", e.what());
       return 128 + e.signal();

@@ -20,7 +20,8 @@ FaultInjection::FaultInjection(const char* text) {
   if (number && parts.size() == 2 && parts[0] == "alloc") m_kind = Kind::Allocation;
   else if (number && parts.size() == 3 && parts[0] == "submit" && parts[2] == "lost") m_kind = Kind::DeviceLost;
   else if (number && parts.size() == 3 && parts[0] == "submit" && parts[2] == "timeout") m_kind = Kind::FenceTimeout;
-  else fail("VKTG_INJECT_FAULT", "", "'" + std::string(text) + "' is not alloc:N, submit:N:lost or submit:N:timeout");
+  else if (number && parts.size() == 2 && parts[0] == "leak") m_kind = Kind::Leak;
+  else fail("VKTG_INJECT_FAULT", "", "'" + std::string(text) + "' is not alloc:N, submit:N:lost, submit:N:timeout or leak:N");
   m_at = at;
 }
 
@@ -28,6 +29,8 @@ VkResult FaultInjection::nextAllocation() {
   if (m_kind != Kind::Allocation) return VK_SUCCESS;
   return ++m_allocations == m_at ? VK_ERROR_OUT_OF_DEVICE_MEMORY : VK_SUCCESS;
 }
+
+bool FaultInjection::nextAllocationLeaks() { return m_kind == Kind::Leak && ++m_allocations == m_at; }
 
 VkResult FaultInjection::nextSubmission() {
   if (m_kind != Kind::DeviceLost && m_kind != Kind::FenceTimeout) return VK_SUCCESS;

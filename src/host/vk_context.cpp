@@ -1,6 +1,7 @@
 #include "host/vk_context.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <utility>
@@ -277,7 +278,18 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
   }
 }
 
-VulkanContext::~VulkanContext() { release(); }
+namespace {
+std::atomic<bool> g_validationFailedAtExit{false};
+}  // namespace
+
+bool validationFailedAtExit() { return g_validationFailedAtExit.load(); }
+
+VulkanContext::~VulkanContext() {
+  release();
+  const std::vector<std::string> late = takeValidationMessages();
+  for (const std::string& m : late) std::fprintf(stderr, "vktg: validation at exit: %s\n", m.c_str());
+  if (!late.empty()) g_validationFailedAtExit = true;
+}
 
 void VulkanContext::release() {
   if (m_stuck) return;
@@ -362,6 +374,12 @@ void VulkanContext::submitAndWait(VkCommandBuffer cmd) const {
 VkResult VulkanContext::allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory) const {
   VkResult injected = m_faults.nextAllocation();
   if (injected != VK_SUCCESS) return injected;
+  if (m_faults.nextAllocationLeaks()) {
+    VkMemoryAllocateInfo block = info;
+    block.allocationSize = 256;
+    VkDeviceMemory leaked = VK_NULL_HANDLE;
+    VKTG_VK_CHECK(vkAllocateMemory(m_device, &block, nullptr, &leaked));  // never freed, on purpose
+  }
   return vkAllocateMemory(m_device, &info, nullptr, memory);
 }
 

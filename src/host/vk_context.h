@@ -57,10 +57,15 @@ class DeviceFault : public Error {
 // How long one submission may run before it counts as stuck (batches are sized to take seconds).
 inline constexpr uint64_t kFenceTimeoutNs = 600ull * 1000 * 1000 * 1000;
 
+// Whether a VulkanContext went with validation messages nobody had taken: those the layer reports
+// while the device is destroyed (objects never destroyed) come after every check a command makes,
+// so the destructor prints them ("vktg: validation at exit: ...") and main() fails the run with this.
+bool validationFailedAtExit();
+
 class VulkanContext {
  public:
   explicit VulkanContext(const ContextOptions& options);
-  ~VulkanContext();
+  ~VulkanContext();  // see validationFailedAtExit
   VulkanContext(const VulkanContext&) = delete;
   VulkanContext& operator=(const VulkanContext&) = delete;
 
@@ -84,7 +89,7 @@ class VulkanContext {
   // Submits and blocks until the GPU is done; a lost device or a submission still running after
   // kFenceTimeoutNs throws DeviceFault.
   void submitAndWait(VkCommandBuffer cmd) const;
-  // vkAllocateMemory (with VKTG_INJECT_FAULT's allocation faults).
+  // vkAllocateMemory (with VKTG_INJECT_FAULT's allocation faults and leak).
   VkResult allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory) const;
 
   // Validation messages recorded so far (warnings and errors); tests fail on any.
