@@ -1,6 +1,9 @@
 #include "host/pass_pipelines.h"
 
+#include <algorithm>
 #include <cstdlib>
+#include <system_error>
+#include <thread>
 #include <unistd.h>
 #include <fstream>
 #include <iterator>
@@ -84,36 +87,76 @@ PassPipelines::~PassPipelines() {
   else std::filesystem::remove(tmp, ec);
 }
 
-VkPipeline PassPipelines::get(const std::string& shader, const SpecValues& spec) {
-  auto key = std::make_pair(shader, spec);
-  if (auto it = m_pipelines.find(key); it != m_pipelines.end()) return it->second.get();
-  VkDevice device = m_context.device();
-  auto moduleIt = m_modules.find(shader);
-  if (moduleIt == m_modules.end()) {
+VkShaderModule PassPipelines::module(const std::string& shader) {
+  auto it = m_modules.find(shader);
+  if (it == m_modules.end()) {
     auto code = m_shaders.find(shader);
     if (code == m_shaders.end()) throw Error("internal: no embedded shader named '" + shader + "'");
     VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     info.codeSize = code->second.size() * sizeof(uint32_t);
     info.pCode = code->second.data();
     VkShaderModule module;
-    VKTG_VK_CHECK(vkCreateShaderModule(device, &info, nullptr, &module));
+    VKTG_VK_CHECK(vkCreateShaderModule(m_context.device(), &info, nullptr, &module));
     m_context.setObjectName(VK_OBJECT_TYPE_SHADER_MODULE, uint64_t(module), shader);
-    moduleIt = m_modules.emplace(shader, ShaderModule(device, module)).first;
+    it = m_modules.emplace(shader, ShaderModule(m_context.device(), module)).first;
   }
+  return it->second.get();
+}
+
+void PassPipelines::prepare(const std::vector<std::pair<std::string, SpecValues>>& passes) {
+  std::vector<std::pair<std::string, SpecValues>> missing;
+  for (const auto& key : passes)
+    if (!m_pipelines.count(key) && std::find(missing.begin(), missing.end(), key) == missing.end()) missing.push_back(key);
+  if (missing.empty()) return;
   std::array<VkSpecializationMapEntry, gpu::kSpecCount> entries{};
   for (uint32_t i = 0; i < gpu::kSpecCount; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
-  VkSpecializationInfo specInfo{gpu::kSpecCount, entries.data(), sizeof(spec), spec.data()};
-  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = moduleIt->second.get();
-  info.stage.pName = "main";
-  info.stage.pSpecializationInfo = &specInfo;
-  info.layout = m_layout.get();
-  VkPipeline pipeline;
-  VKTG_VK_CHECK(vkCreateComputePipelines(device, m_cache.get(), 1, &info, nullptr, &pipeline));
-  m_context.setObjectName(VK_OBJECT_TYPE_PIPELINE, uint64_t(pipeline), shader);
-  return m_pipelines.emplace(key, Pipeline(device, pipeline)).first->second.get();
+  const size_t n = missing.size();
+  std::vector<VkSpecializationInfo> specInfos(n);
+  std::vector<VkComputePipelineCreateInfo> infos(n, {VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO});
+  for (size_t k = 0; k < n; ++k) {
+    specInfos[k] = {gpu::kSpecCount, entries.data(), sizeof(SpecValues), missing[k].second.data()};
+    infos[k].stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    infos[k].stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    infos[k].stage.module = module(missing[k].first);
+    infos[k].stage.pName = "main";
+    infos[k].stage.pSpecializationInfo = &specInfos[k];
+    infos[k].layout = m_layout.get();
+  }
+  // One thread per pipeline: vkCreateComputePipelines may be called concurrently, and the pipeline
+  // cache synchronises itself (it was not created externally synchronised). A thread that cannot be
+  // started leaves its pipeline to this one.
+  std::vector<VkPipeline> created(n, VK_NULL_HANDLE);
+  std::vector<VkResult> results(n, VK_SUCCESS);
+  auto create = [&](size_t k) {
+    results[k] = vkCreateComputePipelines(m_context.device(), m_cache.get(), 1, &infos[k], nullptr, &created[k]);
+  };
+  {
+    std::vector<std::thread> threads;
+    std::vector<size_t> onThisThread;
+    for (size_t k = 1; k < n; ++k) {
+      try {
+        threads.emplace_back(create, k);
+      } catch (const std::system_error&) {
+        onThisThread.push_back(k);
+      }
+    }
+    create(0);
+    for (size_t k : onThisThread) create(k);
+    for (std::thread& t : threads) t.join();
+  }
+  // Keep whatever was created (destroyed with the others) before reporting a failure.
+  for (size_t k = 0; k < n; ++k)
+    if (results[k] == VK_SUCCESS) {
+      m_context.setObjectName(VK_OBJECT_TYPE_PIPELINE, uint64_t(created[k]), missing[k].first);
+      m_pipelines.emplace(missing[k], Pipeline(m_context.device(), created[k]));
+    }
+  for (VkResult result : results) VKTG_VK_CHECK(result);
+}
+
+VkPipeline PassPipelines::get(const std::string& shader, const SpecValues& spec) {
+  auto key = std::make_pair(shader, spec);
+  if (auto it = m_pipelines.find(key); it == m_pipelines.end()) prepare({key});
+  return m_pipelines.at(key).get();
 }
 
 void BindingTable::setChunks(uint32_t firstBinding, const ChunkedBuffer& chunked) {

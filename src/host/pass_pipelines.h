@@ -1,13 +1,16 @@
 // A descriptor-set layout and pipeline layout shared by a family of passes (the render passes use
 // gpu::kBindingCount bindings, the scene-update passes gpu::kUpdateBindingCount; all are storage
 // buffers, the frame block at binding 0 included, see shaders/lib/scene_bindings.glsl), compute
-// pipelines created on demand per (shader variant, specialisation constants), and descriptor sets.
+// pipelines created on demand per (shader variant, specialisation constants), those a render needs
+// together in parallel, and descriptor sets.
 // Pipelines are cached on disk (VkPipelineCache) keyed by device, driver and vktg build.
 #pragma once
 #include <array>
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "host/gpu_scene.h"
 #include "host/vk_resources.h"
@@ -26,11 +29,16 @@ class PassPipelines {
   PassPipelines& operator=(const PassPipelines&) = delete;
 
   VkPipeline get(const std::string& shader, const SpecValues& spec);
+
+  // Creates the pipelines of `passes` that do not exist yet, in parallel (a driver that compiles at
+  // creation, like lavapipe, then uses every core); get() then finds them.
+  void prepare(const std::vector<std::pair<std::string, SpecValues>>& passes);
   VkPipelineLayout layout() const { return m_layout.get(); }
   VkDescriptorSetLayout setLayout() const { return m_setLayout.get(); }
   uint32_t bindingCount() const { return m_bindingCount; }
 
  private:
+  VkShaderModule module(const std::string& shader);
   const VulkanContext& m_context;
   const ShaderTable& m_shaders;
   std::filesystem::path m_cacheFile;

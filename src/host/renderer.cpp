@@ -299,6 +299,13 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   // What finishes a batch: film accumulation (forward) or the adjoint's last step.
   const std::string finishName = adjoint ? (edges ? "scatter_edges" : fromCamera ? "" : "backprop_paths")
                                          : (splat ? "accumulate_splats" : "accumulate");
+  // Created together, in parallel: on a driver that compiles at creation this is most of a short
+  // render's start-up.
+  std::vector<std::pair<std::string, SpecValues>> passes = {
+      {generateName, spec}, {"intersect_closest", spec}, {shadeName, spec}, {shadowName, spec}, {"set_dispatch_args", spec}};
+  if (!finishName.empty()) passes.push_back({finishName, spec});
+  if (!adjoint) passes.push_back({"resolve", spec});
+  pipelines.prepare(passes);
   VkPipeline generate = pipelines.get(generateName, spec);
   VkPipeline intersect = pipelines.get("intersect_closest", spec);
   VkPipeline shade = pipelines.get(shadeName, spec);
