@@ -55,6 +55,7 @@ int runRender(const std::vector<std::string>& argv) {
   applyEstimatorOptions(args, options);
   options.memoryBudget = memoryBudget(args);
   options.gateCutoff = !args.has("--no-gate-cutoff");
+  options.profile = args.has("--profile");
   const std::string pilot = args.get("--pilot").value_or("auto");
   if (pilot != "auto" && pilot != "on" && pilot != "off")
     throw UsageError("--pilot: '" + pilot + "' is not one of auto, on, off");

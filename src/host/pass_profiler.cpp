@@ -4,8 +4,9 @@
 
 namespace vktg {
 
-PassProfiler::PassProfiler(const VulkanContext& context, uint32_t maxScopesPerSubmit)
-    : m_context(context), m_capacity(maxScopesPerSubmit) {
+PassProfiler::PassProfiler(const VulkanContext& context, uint32_t maxScopesPerSubmit, bool enabled)
+    : m_context(context), m_capacity(enabled ? maxScopesPerSubmit : 0) {
+  if (!enabled) return;
   VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   info.queryType = VK_QUERY_TYPE_TIMESTAMP;
   info.queryCount = 2 * maxScopesPerSubmit;
@@ -15,7 +16,7 @@ PassProfiler::PassProfiler(const VulkanContext& context, uint32_t maxScopesPerSu
 }
 
 void PassProfiler::reset(VkCommandBuffer cmd) {
-  vkCmdResetQueryPool(cmd, m_pool.get(), 0, 2 * m_capacity);
+  if (m_capacity > 0) vkCmdResetQueryPool(cmd, m_pool.get(), 0, 2 * m_capacity);
   m_open.clear();
 }
 

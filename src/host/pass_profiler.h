@@ -1,4 +1,5 @@
-// Timestamps around every dispatch, accumulated per pass name, for `--profile` and the benchmarks.
+// Timestamps around every dispatch, accumulated per pass name, for `--profile` and the benchmarks;
+// disabled, it only labels the scopes (timestamps cost a few ms per render on lavapipe).
 #pragma once
 #include <map>
 #include <string>
@@ -10,7 +11,7 @@ namespace vktg {
 
 class PassProfiler {
  public:
-  PassProfiler(const VulkanContext& context, uint32_t maxScopesPerSubmit);
+  PassProfiler(const VulkanContext& context, uint32_t maxScopesPerSubmit, bool enabled = true);
   // Starts a labelled, timed scope in `cmd` (debug label + timestamp); end() closes the last one.
   void begin(VkCommandBuffer cmd, const char* pass);
   void end(VkCommandBuffer cmd);

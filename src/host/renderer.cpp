@@ -317,7 +317,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   VkDescriptorSet ds = set.get();
 
   const uint32_t maxDepth = settings.maxDepth;
-  PassProfiler profiler(context, 8 + 6 * maxDepth);
+  PassProfiler profiler(context, 8 + 6 * maxDepth, options.profile);
   CommandBuffer cmdBuffer(context, "render batch");
   VkCommandBuffer cmd = cmdBuffer.get();
 

@@ -36,6 +36,8 @@ struct RenderOptions {
   EllipsoidSelection ellipsoidSelection = EllipsoidSelection::Auto;  // overrides the planner's unless Auto
   uint64_t memoryBudget = 512ull << 20;     // bytes for wavefront state + film (`--mem`)
   bool gateCutoff = true;                   // end paths whose length passed the gate (bench compares)
+  bool profile = false;                     // time every pass (RenderResult::passMilliseconds); GPU
+                                            // timestamps cost a few ms per render on lavapipe
   std::function<void(double)> progress;     // fraction done, after every batch
   // Non-empty: the derivative variants of the passes also compute d image / d θ for these
   // parameters (forward mode), at most kMaxDerivativeLanes at once.
@@ -86,7 +88,7 @@ struct RenderResult {
   std::vector<ImageSet> derivativeVariances;
   RenderStats stats;
   RenderPlan plan;
-  std::map<std::string, double> passMilliseconds;
+  std::map<std::string, double> passMilliseconds;  // with RenderOptions::profile
 };
 
 class Renderer {
