@@ -210,6 +210,11 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
   }
   DescriptorSet set(m_context, u.pipelines, table, u.dummy);
   SpecValues spec{};
+  // The first update creates the passes' pipelines together, in parallel.
+  std::vector<std::pair<std::string, SpecValues>> passes;
+  if (moveGeometry) passes = {{"move_vertices", spec}, {"update_triangles", spec}, {"refit_bvh", spec}};
+  if (m_edgesBuilt) passes.push_back({"update_edges", spec});
+  u.pipelines.prepare(passes);
   CommandBuffer cmdBuffer(m_context, "scene update");
   cmdBuffer.begin();
   VkCommandBuffer cmd = cmdBuffer.get();
