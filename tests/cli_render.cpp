@@ -190,14 +190,14 @@ TEST(CliRender, ExplainPrintsThePlan) {
 
 TEST(CliRender, ExplainShowsThePilotThatChoseTheEstimatorOrWhyNone) {
   TempDir dir;
-  const std::vector<std::string> base = {"render", "--resolution", "16x16", "--gate", "gaussian:5,0.05", "--explain",
+  const std::vector<std::string> base = {"render", "--resolution", "4x4", "--gate", "gaussian:5,0.05", "--explain",
                                          "--quiet", "--out", (dir / "p.exr").string()};
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> args = base;
     args.insert(args.end(), extra.begin(), extra.end());
     return runOk(args, dir).out;
   };
-  // A 16x16 render takes a fraction of a second: a pilot of all three estimators would not pay.
+  // A 4x4 render is mostly launch cost: nine pilot renders would cost more than a quarter of it.
   const std::string stopped = with({"--spp", "256"});
   EXPECT_NE(stopped.find("no pilot: with"), std::string::npos) << stopped;
   EXPECT_NE(stopped.find("more than 25% of it"), std::string::npos) << stopped;

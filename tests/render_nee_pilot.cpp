@@ -89,16 +89,22 @@ TEST(NeePilot, AppliesOnlyWhereTheEstimatorIsOpenAndTheRenderLargeEnough) {
   RenderSetup setup = RenderSetup::of(defaultScene());
   setup.settings.spp = kPilotMinRenderSpp;
   RenderOptions options;
-  std::string why;
-  EXPECT_TRUE(pilotApplies(setup, options, &why)) << why;
+  std::string note;
+  EXPECT_TRUE(pilotApplies(setup, options, &note)) << note;
+  EXPECT_TRUE(note.empty()) << note;
   EXPECT_EQ(pilotSpp(kPilotMinRenderSpp), kPilotMinRenderSpp / kPilotFraction);
   setup.settings.spp = kPilotMinRenderSpp - 1;
-  EXPECT_FALSE(pilotApplies(setup, options, &why));
-  EXPECT_NE(why.find("too few"), std::string::npos) << why;
+  EXPECT_FALSE(pilotApplies(setup, options, &note));
+  EXPECT_NE(note.find("too few"), std::string::npos) << note;
   setup.settings.spp = kPilotMinRenderSpp;
   options.nee = NeeMode::Standard;
-  EXPECT_FALSE(pilotApplies(setup, options));
+  note.clear();
+  EXPECT_FALSE(pilotApplies(setup, options, &note));
+  EXPECT_TRUE(note.empty()) << "a requested estimator needs no note: " << note;
   options.nee = NeeMode::Auto;
+  options.edges = true;
+  EXPECT_FALSE(pilotApplies(setup, options));
+  options.edges = false;
   setup.gate = Gate{};  // steady
   EXPECT_FALSE(pilotApplies(setup, options));
 }
@@ -144,10 +150,10 @@ TEST(NeePilot, CornellRoomPicksByGateWidth) {
 }
 
 TEST(NeePilot, StopsAfterTheRulesEstimatorWhereTheWholePilotWouldNotPay) {
-  // 16x16 at 256 spp renders in well under a second; three estimators' pipelines and nine launches
-  // cost more than a quarter of that.
+  // 4x4 at 256 spp: the render is mostly its fixed launch cost t0, and the pilot's nine renders pay
+  // at least 9 t0, far more than a quarter of it on any device (even with its pipelines made).
   Scene scene = defaultScene();
-  scene.camera.width = scene.camera.height = 16;
+  scene.camera.width = scene.camera.height = 4;
   scene.render.spp = 256;
   scene.gate = gaussianGate(5.0, 0.05);
   PilotDecision d = pilot(scene, true);

@@ -18,6 +18,13 @@ struct ImageLayer {
 struct ImageSet {
   uint32_t width = 0, height = 0;
   std::vector<ImageLayer> layers;
+
+  // Every layer's pixels, layer after layer (the layout of a film and of an adjoint image).
+  std::vector<float> allPixels() const {
+    std::vector<float> out;
+    for (const ImageLayer& layer : layers) out.insert(out.end(), layer.pixels.begin(), layer.pixels.end());
+    return out;
+  }
 };
 
 // Multi-layer EXR: channel names "<layer>.Y" (or "Y" for a single unnamed layer). Throws vktg::Error.

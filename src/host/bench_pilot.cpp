@@ -82,9 +82,7 @@ BenchPilotReport benchPilot(VulkanContext& context, const BenchOptions& options)
         RenderOptions o = base;
         o.nee = kEstimators[k];
         RenderResult r = renderer.render(scene, s, o);
-        std::vector<float> all;
-        for (const ImageLayer& layer : r.mean.layers) all.insert(all.end(), layer.pixels.begin(), layer.pixels.end());
-        images[k].push_back(std::move(all));
+        images[k].push_back(r.mean.allPixels());
         seconds[k].push_back(r.stats.seconds);
       }
     const size_t pixels = images[0][0].size();

@@ -277,8 +277,7 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     state.accumulator = std::make_unique<GradientAccumulator>(context, layout);
   std::vector<Buffer> adjointBuffers;
   for (const AdjointView& view : views) {
-    std::vector<float> flat;
-    for (const ImageLayer& layer : view.adjoint->layers) flat.insert(flat.end(), layer.pixels.begin(), layer.pixels.end());
+    const std::vector<float> flat = view.adjoint->allPixels();
     adjointBuffers.emplace_back(context, std::max<size_t>(16, flat.size() * sizeof(float)), MemoryKind::Device, "adjoint.image");
     adjointBuffers.back().upload(context, flat.data(), flat.size() * sizeof(float));
   }

@@ -4,17 +4,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 
 #include "host/bench_common.h"
 
 namespace vktg {
 namespace {
-
-std::vector<float> allLayers(const ImageSet& images) {
-  std::vector<float> out;
-  for (const ImageLayer& layer : images.layers) out.insert(out.end(), layer.pixels.begin(), layer.pixels.end());
-  return out;
-}
 
 // Each layer averaged over the (2r+1)^2 pixels around each pixel (those inside the image).
 std::vector<float> boxBlurred(const std::vector<float>& pixels, uint32_t width, uint32_t height, int r) {
@@ -61,12 +56,6 @@ TimeModel fitTimes(const std::vector<std::vector<double>>& times, const std::vec
   return model;
 }
 
-double sum(const std::vector<float>& values) {
-  double total = 0;
-  for (float v : values) total += v;
-  return total;
-}
-
 }  // namespace
 
 uint32_t pilotSpp(uint32_t spp) { return spp < kPilotMinRenderSpp ? 0u : spp / kPilotFraction; }
@@ -78,10 +67,10 @@ PilotDecision decideFromPilot(const std::vector<PilotRun>& runs, uint32_t render
   std::vector<double> totals(n), totalVariances(n);
   size_t brightest = 0;
   for (size_t c = 0; c < n; ++c) {
-    means[c] = allLayers(runs[c].mean);
-    variances[c] = allLayers(runs[c].variance);
-    totals[c] = sum(means[c]);
-    totalVariances[c] = sum(variances[c]);
+    means[c] = runs[c].mean.allPixels();
+    variances[c] = runs[c].variance.allPixels();
+    totals[c] = std::accumulate(means[c].begin(), means[c].end(), 0.0);
+    totalVariances[c] = std::accumulate(variances[c].begin(), variances[c].end(), 0.0);
     if (totals[c] > totals[brightest]) brightest = c;
   }
   decision.estimates.resize(n);
@@ -143,18 +132,17 @@ PilotDecision decideFromPilot(const std::vector<PilotRun>& runs, uint32_t render
   return decision;
 }
 
-bool pilotApplies(const RenderSetup& setup, const RenderOptions& options, std::string* why) {
-  auto no = [&](const std::string& reason) {
-    if (why) *why = reason;
+bool pilotApplies(const RenderSetup& setup, const RenderOptions& options, std::string* note) {
+  if (options.nee != NeeMode::Auto || setup.settings.nee != NeeMode::Auto) return false;  // requested
+  if (setup.gate.type == GateType::Steady) return false;  // only standard NEE can render it
+  // The pilot measures images, not derivatives.
+  if (!options.derivativeLanes.empty() || options.adjoint || options.pathLengthBoundary || options.edges) return false;
+  if (pilotSpp(setup.settings.spp) == 0) {
+    if (note)
+      *note = formatReason("no pilot: %u spp is too few to spend 1/%u of them on each estimator (needs %u)",
+                           setup.settings.spp, kPilotFraction, kPilotMinRenderSpp);
     return false;
-  };
-  if (options.nee != NeeMode::Auto || setup.settings.nee != NeeMode::Auto) return no("NEE is requested");
-  if (setup.gate.type == GateType::Steady) return no("the gate is steady");
-  if (!options.derivativeLanes.empty() || options.adjoint || options.pathLengthBoundary || options.edges)
-    return no("the pilot measures images, not derivatives");
-  if (pilotSpp(setup.settings.spp) == 0)
-    return no(formatReason("no pilot: %u spp is too few to spend 1/%u of them on each estimator (needs %u)",
-                           setup.settings.spp, kPilotFraction, kPilotMinRenderSpp));
+  }
   return true;
 }
 
@@ -236,10 +224,9 @@ PilotDecision runNeePilot(Renderer& renderer, DeviceScene& scene, const RenderSe
 
 void chooseNeeByPilot(Renderer& renderer, DeviceScene& scene, const RenderSetup& setup, RenderOptions& options,
                       bool onlyWhereItPays) {
-  std::string why;
-  if (!pilotApplies(setup, options, &why)) {
-    // Only the reasons the rule's choice would not already explain are worth a line.
-    if (why.rfind("no pilot", 0) == 0) options.neeNotes = {why};
+  std::string note;
+  if (!pilotApplies(setup, options, &note)) {
+    if (!note.empty()) options.neeNotes = {note};
     return;
   }
   PilotDecision decision = runNeePilot(renderer, scene, setup, options, onlyWhereItPays);

@@ -61,8 +61,9 @@ inline constexpr int kPilotReferenceRadius = 2;
 PilotDecision decideFromPilot(const std::vector<PilotRun>& runs, uint32_t renderSpp);
 
 // Whether the pilot applies: NEE left to the planner (options and scene), a gate of finite extent,
-// an image render (no derivatives), enough samples. `why` says why not.
-bool pilotApplies(const RenderSetup& setup, const RenderOptions& options, std::string* why = nullptr);
+// an image render (no derivatives), enough samples. `note` gets a line for the plan when only the
+// sample count stood in the way (the other reasons are already in the plan's own lines).
+bool pilotApplies(const RenderSetup& setup, const RenderOptions& options, std::string* note = nullptr);
 
 // The most of a render's predicted time a pilot may take when it runs only where it pays.
 inline constexpr double kPilotMaxShare = 0.25;

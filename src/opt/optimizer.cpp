@@ -71,36 +71,36 @@ void Optimizer::step(std::vector<double>& theta, const std::vector<double>& grad
   // Kingma & Ba (2015), Algorithm 1: bias-corrected moments, epsilon added to sqrt(v-hat).
   const double firstCorrection = 1.0 - std::pow(m_spec.beta1, t);
   const double secondCorrection = 1.0 - std::pow(m_spec.beta2, t);
-  // The step is computed aside and taken only if every value stays finite: a finite but huge
-  // gradient can still overflow a moment or θ (SGD's momentum grows without bound), and an infinite
-  // θ would reach the scene as vertices at infinity. θ and the state then stay as they were.
-  OptimizerState next = m_state;
-  std::vector<double> stepped = theta;
-  for (size_t i = 0; i < count; ++i) {
+  const bool adam = m_spec.type == OptimizerType::Adam;
+  // One parameter's step: its moments and value, updated in place.
+  auto stepOne = [&](size_t i, double& m, double& v, double& value) {
     const double rate = m_baseRates[i] * factor;
-    double& m = next.first[i];
-    if (m_spec.type == OptimizerType::Adam) {
-      double& v = next.second[i];
+    if (adam) {
       m = m_spec.beta1 * m + (1.0 - m_spec.beta1) * gradient[i];
       v = m_spec.beta2 * v + (1.0 - m_spec.beta2) * gradient[i] * gradient[i];
       const double mHat = m / firstCorrection;
       const double vHat = v / secondCorrection;
-      stepped[i] -= rate * mHat / (std::sqrt(vHat) + m_spec.epsilon);
+      value -= rate * mHat / (std::sqrt(vHat) + m_spec.epsilon);
     } else {
       m = m_spec.momentum * m + gradient[i];
-      stepped[i] -= rate * m;
+      value -= rate * m;
     }
-    stepped[i] = projectToRange(stepped[i], m_parameters[i].range);
-    const bool finite = std::isfinite(stepped[i]) && std::isfinite(m) &&
-                        (m_spec.type != OptimizerType::Adam || std::isfinite(next.second[i]));
-    if (!finite)
+    value = projectToRange(value, m_parameters[i].range);
+  };
+  // Every step is tried on copies first and taken only if all stay finite: a finite but huge
+  // gradient can still overflow a moment or θ (SGD's velocity grows without bound), and an infinite
+  // θ would reach the scene as vertices at infinity. θ and the state then stay as they were.
+  for (size_t i = 0; i < count; ++i) {
+    double m = m_state.first[i], v = adam ? m_state.second[i] : 0.0, value = theta[i];
+    stepOne(i, m, v, value);
+    if (!std::isfinite(m) || !std::isfinite(v) || !std::isfinite(value))
       fail("", "optimizer", "the step of parameter \"" + m_parameters[i].name + "\" overflows (gradient " +
-                                std::to_string(gradient[i]) + ", learning rate " + std::to_string(rate) +
+                                std::to_string(gradient[i]) + ", learning rate " + std::to_string(m_baseRates[i] * factor) +
                                 "): lower its learning rate or scale the loss; θ is left as it was");
   }
-  ++next.steps;
-  m_state = std::move(next);
-  theta = std::move(stepped);
+  double unused = 0.0;
+  for (size_t i = 0; i < count; ++i) stepOne(i, m_state.first[i], adam ? m_state.second[i] : unused, theta[i]);
+  ++m_state.steps;
 }
 
 void Optimizer::restore(const OptimizerState& state) {
