@@ -23,6 +23,10 @@ layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
 
 void atomicAddFilm(uint floatIndex, float value) {
+  if (kSpecSingleChunkValue != 0u) {
+    atomicAdd(film0[floatIndex], value);
+    return;
+  }
   uint c = floatIndex >> frame.chunkShift.z;
   uint j = floatIndex & ((1u << frame.chunkShift.z) - 1u);
   if (c == 0u) atomicAdd(film0[j], value);

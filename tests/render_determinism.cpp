@@ -7,8 +7,11 @@
 // last bits may depend on the device's scheduling.)
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <cstring>
+#include <optional>
 
+#include "support/gpu_context.h"
 #include "support/render_test.h"
 #include "support/test_scenes.h"
 #include "vktg/gate.h"
@@ -69,6 +72,41 @@ TEST(RenderDeterminism, SameSeedSameBitsAtAnyBatchSize) {
       expectBitIdentical(whole.derivatives[k], again.derivatives[k], "derivative, run to run");
       expectBitIdentical(whole.derivatives[k], batched.derivatives[k], "derivative, batched");
       expectBitIdentical(whole.derivativeVariances[k], batched.derivativeVariances[k], "derivative variance, batched");
+    }
+  }
+}
+
+// Sets VKTG_MAX_CHUNK_BYTES for its lifetime.
+struct ChunkCap {
+  explicit ChunkCap(const char* bytes) { setenv("VKTG_MAX_CHUNK_BYTES", bytes, 1); }
+  ~ChunkCap() { unsetenv("VKTG_MAX_CHUNK_BYTES"); }
+};
+
+// Buffers larger than a chunk (VKTG_MAX_CHUNK_BYTES caps it on any device) are read through the
+// general accessors; every other render through the single-chunk ones (kSpecSingleChunk). Both
+// must give the same bits.
+TEST(RenderDeterminism, BuffersSplitIntoChunksGiveTheSameBits) {
+  Scene filmSplit = transientCornell();  // 12 x 12 pixels x 8 bins: the film takes several 16 KiB chunks
+  Scene sceneSplit = transientCornell();  // 2 x 2 pixels: triangles and BVH nodes take several 1 KiB chunks
+  sceneSplit.camera.width = sceneSplit.camera.height = 2;
+  for (auto [scene, cap] : {std::pair{&filmSplit, "16384"}, std::pair{&sceneSplit, "1024"}}) {
+    for (bool derivative : {false, true}) {
+      SCOPED_TRACE(std::string(derivative ? "derivative lanes" : "image") + ", chunks of at most " + cap + " bytes");
+      RenderResult whole = renderWithBudget(*scene, 512ull << 20, derivative);
+      ASSERT_EQ(whole.stats.bufferChunks, 1u);
+      RenderOptions options;
+      options.nee = NeeMode::Standard;
+      if (derivative) options.derivativeLanes = bindParameters(*scene, {"left_x"});
+      std::optional<RenderResult> split;
+      {
+        ChunkCap capped(cap);
+        Renderer renderer(testContext());  // its own film, allocated under the cap
+        split = renderer.render(*scene, options);
+      }
+      EXPECT_GT(split->stats.bufferChunks, 1u) << "the cap should have split a buffer";
+      expectBitIdentical(whole.mean, split->mean, "image");
+      for (size_t k = 0; k < whole.derivatives.size(); ++k)
+        expectBitIdentical(whole.derivatives[k], split->derivatives[k], "derivative");
     }
   }
 }

@@ -30,6 +30,7 @@ layout(std430, set = 0, binding = kBindingShadowDerivs) buffer ShadowDerivsBlock
 // power-of-two count of floats).
 vec4 loadFilm(uint i) {
   uint k = kFilmFloatsPerElement * i;
+  if (kSpecSingleChunkValue != 0u) return vec4(film0[k], film0[k + 1u], film0[k + 2u], film0[k + 3u]);
   uint c = k >> frame.chunkShift.z;
   uint j = k & ((1u << frame.chunkShift.z) - 1u);
   if (c == 0u) return vec4(film0[j], film0[j + 1u], film0[j + 2u], film0[j + 3u]);
@@ -40,6 +41,13 @@ vec4 loadFilm(uint i) {
 
 void storeFilm(uint i, vec4 v) {
   uint k = kFilmFloatsPerElement * i;
+  if (kSpecSingleChunkValue != 0u) {
+    film0[k] = v.x;
+    film0[k + 1u] = v.y;
+    film0[k + 2u] = v.z;
+    film0[k + 3u] = v.w;
+    return;
+  }
   uint c = k >> frame.chunkShift.z;
   uint j = k & ((1u << frame.chunkShift.z) - 1u);
   if (c == 0u) { film0[j] = v.x; film0[j + 1u] = v.y; film0[j + 2u] = v.z; film0[j + 3u] = v.w; }

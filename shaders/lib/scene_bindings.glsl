@@ -2,10 +2,13 @@
 // include/vktg/gpu/shared.h), shared by the render layout (lib/bindings.glsl) and the scene-update
 // layout (lib/update_bindings.glsl), with accessors that hide the chunking of large buffers (each
 // chunk stays under maxStorageBufferRange; lavapipe has no descriptor indexing, so chunks are
-// separate bindings selected by a switch).
+// separate bindings selected by a switch). Where every chunked buffer holds one chunk (nearly every
+// scene; kSpecSingleChunk) the accessors index chunk 0 directly: a CPU device runs all four arms of
+// the switch with the lanes masked, which cost lavapipe's BVH traversal 40% of its rays per second.
 #ifndef VKTG_SCENE_BINDINGS_GLSL
 #define VKTG_SCENE_BINDINGS_GLSL
 #include "vktg/gpu/shared.h"
+#include "lib/specialization.glsl"
 
 // The frame block is a storage buffer, not a uniform buffer: lavapipe inlines the uniform-buffer
 // values its branches read and compiles, and keeps, a shader variant per distinct set of them, so a
@@ -28,6 +31,7 @@ layout(std430, set = 0, binding = kBindingMaterials) readonly buffer MaterialsBl
 layout(std430, set = 0, binding = kBindingLights) readonly buffer LightsBlock { GpuLight lights[]; };
 
 GpuTriangle loadTriangle(uint i) {
+  if (kSpecSingleChunkValue != 0u) return triangles0[i];
   uint c = i >> frame.chunkShift.x;
   uint j = i & ((1u << frame.chunkShift.x) - 1u);
   if (c == 0u) return triangles0[j];
@@ -37,6 +41,7 @@ GpuTriangle loadTriangle(uint i) {
 }
 
 GpuBvhNode loadBvhNode(uint i) {
+  if (kSpecSingleChunkValue != 0u) return bvhNodes0[i];
   uint c = i >> frame.chunkShift.y;
   uint j = i & ((1u << frame.chunkShift.y) - 1u);
   if (c == 0u) return bvhNodes0[j];

@@ -15,6 +15,7 @@ layout(constant_id = 7) const uint kSpecAntitheticValue = 0u;
 layout(constant_id = 8) const uint kSpecAdjointTargetsValue = 0u;  // kAdjoint* bits (adjoint variants)
 layout(constant_id = 9) const uint kSpecEllipsoidSelectionValue = 0u;  // kEllipsoidDescend / kEllipsoidEnumerate
 layout(constant_id = 10) const uint kSpecCameraConnectionsValue = 0u;  // 1: connections from the camera
+layout(constant_id = 11) const uint kSpecSingleChunkValue = 0u;  // 1: chunked buffers hold one chunk each
 
 bool sceneHasLightType(uint type) { return (kSpecLightMaskValue & (1u << type)) != 0u; }
 bool sceneHasMaterial(uint type) { return (kSpecMaterialMaskValue & (1u << type)) != 0u; }

@@ -15,6 +15,10 @@ layout(std430, set = 0, binding = kUpdateBindingEdges) buffer EdgesBlock { GpuEd
 layout(std430, set = 0, binding = kUpdateBindingEdgeFaces) readonly buffer EdgeFacesBlock { uvec4 edgeFaces[]; };
 
 void storeTriangle(uint i, GpuTriangle t) {
+  if (kSpecSingleChunkValue != 0u) {
+    triangles0[i] = t;
+    return;
+  }
   uint c = i >> frame.chunkShift.x;
   uint j = i & ((1u << frame.chunkShift.x) - 1u);
   if (c == 0u) triangles0[j] = t;
@@ -24,6 +28,10 @@ void storeTriangle(uint i, GpuTriangle t) {
 }
 
 void storeBvhNode(uint i, GpuBvhNode n) {
+  if (kSpecSingleChunkValue != 0u) {
+    bvhNodes0[i] = n;
+    return;
+  }
   uint c = i >> frame.chunkShift.y;
   uint j = i & ((1u << frame.chunkShift.y) - 1u);
   if (c == 0u) bvhNodes0[j] = n;

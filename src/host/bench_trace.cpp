@@ -93,6 +93,7 @@ class GpuTracer {
   // pipeline, so callers warm up first).
   double trace(bool anyHit, uint32_t repeats) {
     SpecValues spec{};
+    spec[gpu::kSpecSingleChunk] = m_scene.singleChunk() ? 1u : 0u;
     VkPipeline pipeline = m_pipelines.get("bench_trace", spec);
     CommandBuffer cmd(m_context, "bench trace");
     cmd.begin();

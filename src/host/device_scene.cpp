@@ -210,6 +210,7 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
   }
   DescriptorSet set(m_context, u.pipelines, table, u.dummy);
   SpecValues spec{};
+  spec[gpu::kSpecSingleChunk] = m_gpu->singleChunk() ? 1u : 0u;
   // The first update creates the passes' pipelines together, in parallel.
   std::vector<std::pair<std::string, SpecValues>> passes;
   if (moveGeometry) passes = {{"move_vertices", spec}, {"update_triangles", spec}, {"refit_bvh", spec}};

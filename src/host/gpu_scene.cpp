@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <cerrno>
+#include <cstdlib>
 
 #include "vktg/error.h"
 
@@ -29,9 +31,21 @@ uint32_t chunkShiftFor(size_t elementSize, size_t count, uint64_t maxRange, cons
   return shift;
 }
 
+uint64_t maxChunkBytes(const VulkanContext& context) {
+  const uint64_t device = context.properties().limits.maxStorageBufferRange;
+  const char* text = std::getenv("VKTG_MAX_CHUNK_BYTES");
+  if (!text || !*text) return device;
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long value = std::strtoull(text, &end, 10);
+  if (errno != 0 || *end != '\0' || text[0] == '-' || value < 16)
+    throw Error("VKTG_MAX_CHUNK_BYTES: '" + std::string(text) + "' is not a whole number of bytes of at least 16");
+  return std::min<uint64_t>(device, value);
+}
+
 ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, size_t count, const std::string& name) {
   ChunkedBuffer out;
-  out.shift = chunkShiftFor(elementSize, count, context.properties().limits.maxStorageBufferRange, name);
+  out.shift = chunkShiftFor(elementSize, count, maxChunkBytes(context), name);
   size_t perChunk = size_t(1) << out.shift;
   size_t chunks = std::max<size_t>(1, (count + perChunk - 1) / perChunk);
   for (size_t c = 0; c < chunks; ++c) {

@@ -13,11 +13,16 @@ namespace vktg {
 struct ChunkedBuffer {
   std::vector<Buffer> chunks;
   uint32_t shift = 0;
+
+  bool single() const { return chunks.size() <= 1; }
 };
 
 // Chooses the largest power-of-two chunk that fits `maxRange` bytes; throws vktg::Error naming
 // `what` when even kMaxBufferChunks chunks cannot hold `count` elements.
 uint32_t chunkShiftFor(size_t elementSize, size_t count, uint64_t maxRange, const std::string& what);
+// The most bytes one chunk may hold on this device: maxStorageBufferRange, or less where the
+// environment variable VKTG_MAX_CHUNK_BYTES asks for less (so tests split buffers on any device).
+uint64_t maxChunkBytes(const VulkanContext& context);
 ChunkedBuffer uploadChunked(const VulkanContext& context, const void* data, size_t elementSize, size_t count,
                             const std::string& name);
 ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, size_t count, const std::string& name);
@@ -33,6 +38,9 @@ struct GpuScene {
   Buffer materials;
   Buffer lights;
   size_t bytes = 0;  // device memory held
+
+  // Whether the chunked arrays hold one chunk each (kSpecSingleChunk, with the film's answer).
+  bool singleChunk() const { return triangles.single() && bvhNodes.single(); }
 };
 
 }  // namespace vktg

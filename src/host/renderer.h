@@ -77,6 +77,7 @@ struct RenderStats {
   uint64_t gradientOverflows = 0;  // adjoint scatters beyond the accumulators' range
   uint32_t batches = 0, batchSize = 0;
   uint64_t deviceBytes = 0;  // scene + wavefront + film
+  uint32_t bufferChunks = 0; // the most chunks a chunked buffer (triangles, BVH nodes, film) took
   double seconds = 0;        // wall time of the batches (excludes pipeline creation)
 };
 

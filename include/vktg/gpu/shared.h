@@ -160,7 +160,8 @@ VKTG_CONST(uint, kSpecAntithetic, 7);     // 1: ellipsoidal connections in antit
 VKTG_CONST(uint, kSpecAdjointTargets, 8); // adjoint variants: kAdjoint* bits, what the gradient is taken of
 VKTG_CONST(uint, kSpecEllipsoidSelection, 9);  // kEllipsoidDescend / kEllipsoidEnumerate
 VKTG_CONST(uint, kSpecCameraConnections, 10);   // 1: the shadow queue holds connect_camera_boundary's connections
-VKTG_CONST(uint, kSpecCount, 11);
+VKTG_CONST(uint, kSpecSingleChunk, 11);  // 1: triangles, BVH nodes and film each fit their first chunk
+VKTG_CONST(uint, kSpecCount, 12);
 
 // How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
 VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
