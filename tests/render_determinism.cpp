@@ -9,7 +9,6 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <optional>
 
 #include "support/gpu_context.h"
 #include "support/render_test.h"
@@ -76,11 +75,21 @@ TEST(RenderDeterminism, SameSeedSameBitsAtAnyBatchSize) {
   }
 }
 
-// Sets VKTG_MAX_CHUNK_BYTES for its lifetime.
-struct ChunkCap {
-  explicit ChunkCap(const char* bytes) { setenv("VKTG_MAX_CHUNK_BYTES", bytes, 1); }
-  ~ChunkCap() { unsetenv("VKTG_MAX_CHUNK_BYTES"); }
+// Sets an environment variable for its lifetime.
+struct ScopedEnv {
+  ScopedEnv(const char* name, const char* value) : name(name) { setenv(name, value, 1); }
+  ~ScopedEnv() { unsetenv(name); }
+  const char* name;
 };
+
+RenderResult renderUnder(const Scene& scene, bool derivative, const char* variable, const char* value) {
+  RenderOptions options;
+  options.nee = NeeMode::Standard;
+  if (derivative) options.derivativeLanes = bindParameters(scene, {"left_x"});
+  ScopedEnv env(variable, value);
+  Renderer renderer(testContext());  // its own film, allocated under the variable
+  return renderer.render(scene, options);
+}
 
 // Buffers larger than a chunk (VKTG_MAX_CHUNK_BYTES caps it on any device) are read through the
 // general accessors; every other render through the single-chunk ones (kSpecSingleChunk). Both
@@ -94,20 +103,29 @@ TEST(RenderDeterminism, BuffersSplitIntoChunksGiveTheSameBits) {
       SCOPED_TRACE(std::string(derivative ? "derivative lanes" : "image") + ", chunks of at most " + cap + " bytes");
       RenderResult whole = renderWithBudget(*scene, 512ull << 20, derivative);
       ASSERT_EQ(whole.stats.bufferChunks, 1u);
-      RenderOptions options;
-      options.nee = NeeMode::Standard;
-      if (derivative) options.derivativeLanes = bindParameters(*scene, {"left_x"});
-      std::optional<RenderResult> split;
-      {
-        ChunkCap capped(cap);
-        Renderer renderer(testContext());  // its own film, allocated under the cap
-        split = renderer.render(*scene, options);
-      }
-      EXPECT_GT(split->stats.bufferChunks, 1u) << "the cap should have split a buffer";
-      expectBitIdentical(whole.mean, split->mean, "image");
+      RenderResult split = renderUnder(*scene, derivative, "VKTG_MAX_CHUNK_BYTES", cap);
+      EXPECT_GT(split.stats.bufferChunks, 1u) << "the cap should have split a buffer";
+      if (scene == &sceneSplit) EXPECT_FALSE(split.stats.sceneTexels) << "split buffers load through storage buffers";
+      expectBitIdentical(whole.mean, split.mean, "image");
       for (size_t k = 0; k < whole.derivatives.size(); ++k)
-        expectBitIdentical(whole.derivatives[k], split->derivatives[k], "derivative");
+        expectBitIdentical(whole.derivatives[k], split.derivatives[k], "derivative");
     }
+  }
+}
+
+// Triangles and BVH nodes load through texel buffers on CPU devices and through storage buffers
+// on GPUs (VKTG_SCENE_ACCESS forces either): the same bits both ways.
+TEST(RenderDeterminism, TexelAndStorageSceneLoadsGiveTheSameBits) {
+  const Scene scene = transientCornell();
+  for (bool derivative : {false, true}) {
+    SCOPED_TRACE(derivative ? "derivative lanes" : "image");
+    RenderResult storage = renderUnder(scene, derivative, "VKTG_SCENE_ACCESS", "storage");
+    RenderResult texel = renderUnder(scene, derivative, "VKTG_SCENE_ACCESS", "texel");
+    ASSERT_FALSE(storage.stats.sceneTexels);
+    ASSERT_TRUE(texel.stats.sceneTexels);
+    expectBitIdentical(storage.mean, texel.mean, "image");
+    for (size_t k = 0; k < storage.derivatives.size(); ++k)
+      expectBitIdentical(storage.derivatives[k], texel.derivatives[k], "derivative");
   }
 }
 

@@ -23,6 +23,11 @@ layout(std430, set = 0, binding = kBindingFrame) readonly buffer FrameBlock { Fr
 
 VKTG_CHUNKS(GpuTriangle, triangles, kBindingTriangles)
 VKTG_CHUNKS(GpuBvhNode, bvhNodes, kBindingBvhNodes)
+// The same triangles and nodes as 16-byte texels (kSpecSceneTexels; shared.h says why).
+layout(set = 0, binding = kBindingTriangleTexels) uniform usamplerBuffer triangleTexels;
+layout(set = 0, binding = kBindingBvhNodeTexels) uniform usamplerBuffer bvhNodeTexels;
+
+vec4 texelVec4(usamplerBuffer texels, int i) { return uintBitsToFloat(texelFetch(texels, i)); }
 
 layout(std430, set = 0, binding = kBindingTriangleVerts) readonly buffer TriangleVertsBlock { uvec4 triangleVerts[]; };
 layout(std430, set = 0, binding = kBindingVertices) buffer VerticesBlock { vec4 vertices[]; };
@@ -31,6 +36,10 @@ layout(std430, set = 0, binding = kBindingMaterials) readonly buffer MaterialsBl
 layout(std430, set = 0, binding = kBindingLights) readonly buffer LightsBlock { GpuLight lights[]; };
 
 GpuTriangle loadTriangle(uint i) {
+  if (kSpecSceneTexelsValue != 0u) {
+    int t = 3 * int(i);
+    return GpuTriangle(texelVec4(triangleTexels, t), texelVec4(triangleTexels, t + 1), texelVec4(triangleTexels, t + 2));
+  }
   if (kSpecSingleChunkValue != 0u) return triangles0[i];
   uint c = i >> frame.chunkShift.x;
   uint j = i & ((1u << frame.chunkShift.x) - 1u);
@@ -41,6 +50,11 @@ GpuTriangle loadTriangle(uint i) {
 }
 
 GpuBvhNode loadBvhNode(uint i) {
+  if (kSpecSceneTexelsValue != 0u) {
+    int t = 4 * int(i);
+    return GpuBvhNode(texelVec4(bvhNodeTexels, t), texelVec4(bvhNodeTexels, t + 1), texelVec4(bvhNodeTexels, t + 2),
+                      texelVec4(bvhNodeTexels, t + 3));
+  }
   if (kSpecSingleChunkValue != 0u) return bvhNodes0[i];
   uint c = i >> frame.chunkShift.y;
   uint j = i & ((1u << frame.chunkShift.y) - 1u);

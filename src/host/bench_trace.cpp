@@ -94,6 +94,7 @@ class GpuTracer {
   double trace(bool anyHit, uint32_t repeats) {
     SpecValues spec{};
     spec[gpu::kSpecSingleChunk] = m_scene.singleChunk() ? 1u : 0u;
+    spec[gpu::kSpecSceneTexels] = m_scene.texels() ? 1u : 0u;
     VkPipeline pipeline = m_pipelines.get("bench_trace", spec);
     CommandBuffer cmd(m_context, "bench trace");
     cmd.begin();

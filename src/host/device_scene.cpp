@@ -211,6 +211,7 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
   DescriptorSet set(m_context, u.pipelines, table, u.dummy);
   SpecValues spec{};
   spec[gpu::kSpecSingleChunk] = m_gpu->singleChunk() ? 1u : 0u;
+  // kSpecSceneTexels stays 0: these passes write the nodes they read (refit_bvh).
   // The first update creates the passes' pipelines together, in parallel.
   std::vector<std::pair<std::string, SpecValues>> passes;
   if (moveGeometry) passes = {{"move_vertices", spec}, {"update_triangles", spec}, {"refit_bvh", spec}};

@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdlib>
 
+#include "host/vk_check.h"
 #include "vktg/error.h"
 
 namespace vktg {
@@ -56,6 +57,37 @@ ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, 
   return out;
 }
 
+BufferView texelView(const VulkanContext& context, const Buffer& buffer, const std::string& name) {
+  VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  info.buffer = buffer.handle();
+  info.format = VK_FORMAT_R32G32B32A32_UINT;
+  info.range = VK_WHOLE_SIZE;
+  VkBufferView view;
+  VKTG_VK_CHECK(vkCreateBufferView(context.device(), &info, nullptr, &view));
+  context.setObjectName(VK_OBJECT_TYPE_BUFFER_VIEW, uint64_t(view), name);
+  return BufferView(context.device(), view);
+}
+
+namespace {
+
+// Whether the traversal loads the scene through texel buffers: by default on CPU devices (lavapipe
+// traces 1.2-1.9x the rays per second with them, docs/benchmarks.md), never where a buffer takes
+// several chunks or more texels than a view may hold.
+bool useSceneTexels(const VulkanContext& context, const GpuScene& scene) {
+  const uint64_t limit = context.properties().limits.maxTexelBufferElements;
+  constexpr uint64_t kTexel = 16;
+  if (!scene.triangles.single() || !scene.bvhNodes.single() || scene.triangles.chunks[0].size() / kTexel > limit ||
+      scene.bvhNodes.chunks[0].size() / kTexel > limit)
+    return false;
+  const char* access = std::getenv("VKTG_SCENE_ACCESS");
+  if (!access || !*access) return context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  if (std::string(access) == "texel") return true;
+  if (std::string(access) == "storage") return false;
+  throw Error("VKTG_SCENE_ACCESS: '" + std::string(access) + "' is neither 'storage' nor 'texel'");
+}
+
+}  // namespace
+
 ChunkedBuffer uploadChunked(const VulkanContext& context, const void* data, size_t elementSize, size_t count,
                             const std::string& name) {
   ChunkedBuffer out = allocateChunked(context, elementSize, count, name);
@@ -78,6 +110,10 @@ GpuScene::GpuScene(const VulkanContext& context, const PreparedScene& prepared)
       shapes(uploadArray(context, prepared.shapes, "scene.shapes")),
       materials(uploadArray(context, prepared.materials, "scene.materials")),
       lights(uploadArray(context, prepared.lights, "scene.lights")) {
+  if (useSceneTexels(context, *this)) {
+    triangleTexels = texelView(context, triangles.chunks[0], "scene.triangleTexels");
+    bvhNodeTexels = texelView(context, bvhNodes.chunks[0], "scene.bvhNodeTexels");
+  }
   for (const ChunkedBuffer* chunked : {&triangles, &bvhNodes})
     for (const Buffer& b : chunked->chunks) bytes += b.size();
   for (const Buffer* b : {&triangleVerts, &vertices, &shapes, &materials, &lights}) bytes += b->size();

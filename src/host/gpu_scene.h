@@ -23,6 +23,8 @@ uint32_t chunkShiftFor(size_t elementSize, size_t count, uint64_t maxRange, cons
 // The most bytes one chunk may hold on this device: maxStorageBufferRange, or less where the
 // environment variable VKTG_MAX_CHUNK_BYTES asks for less (so tests split buffers on any device).
 uint64_t maxChunkBytes(const VulkanContext& context);
+// A view of `buffer` as R32G32B32A32_UINT texels (a uniform texel buffer).
+BufferView texelView(const VulkanContext& context, const Buffer& buffer, const std::string& name);
 ChunkedBuffer uploadChunked(const VulkanContext& context, const void* data, size_t elementSize, size_t count,
                             const std::string& name);
 ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, size_t count, const std::string& name);
@@ -37,7 +39,13 @@ struct GpuScene {
   Buffer shapes;
   Buffer materials;
   Buffer lights;
+  // Views of triangles and BVH nodes for the traversal's loads (kSpecSceneTexels), made where they
+  // measure faster: on CPU devices, where each holds one chunk and fits maxTexelBufferElements.
+  // VKTG_SCENE_ACCESS=storage|texel overrides the device's choice (tests, benchmarks).
+  BufferView triangleTexels, bvhNodeTexels;
   size_t bytes = 0;  // device memory held
+
+  bool texels() const { return bool(bvhNodeTexels); }
 
   // Whether the chunked arrays hold one chunk each (kSpecSingleChunk, with the film's answer).
   bool singleChunk() const { return triangles.single() && bvhNodes.single(); }

@@ -37,6 +37,8 @@ PassPipelines::PassPipelines(const VulkanContext& context, const ShaderTable& sh
     binding.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     bindings.push_back(binding);
   }
+  for (uint32_t b : {gpu::kBindingTriangleTexels, gpu::kBindingBvhNodeTexels})
+    bindings.push_back({b, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
   VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   setInfo.bindingCount = uint32_t(bindings.size());
   setInfo.pBindings = bindings.data();
@@ -167,6 +169,8 @@ void BindingTable::setChunks(uint32_t firstBinding, const ChunkedBuffer& chunked
 void BindingTable::setScene(const GpuScene& scene) {
   setChunks(gpu::kBindingTriangles, scene.triangles);
   setChunks(gpu::kBindingBvhNodes, scene.bvhNodes);
+  triangleTexels = scene.triangleTexels.get();
+  bvhNodeTexels = scene.bvhNodeTexels.get();
   set(gpu::kBindingTriangleVerts, scene.triangleVerts);
   set(gpu::kBindingVertices, scene.vertices);
   set(gpu::kBindingShapes, scene.shapes);
@@ -179,10 +183,11 @@ DescriptorSet::DescriptorSet(const VulkanContext& context, const PassPipelines& 
   VkDevice device = context.device();
   const uint32_t count = pipelines.bindingCount();
   VkDescriptorSetLayout layout = pipelines.setLayout();
-  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count}};
+  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count},
+                                  {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, gpu::kTexelBindingCount}};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;
-  poolInfo.poolSizeCount = 1;
+  poolInfo.poolSizeCount = 2;
   poolInfo.pPoolSizes = sizes;
   VkDescriptorPool pool;
   VKTG_VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool));
@@ -194,7 +199,7 @@ DescriptorSet::DescriptorSet(const VulkanContext& context, const PassPipelines& 
   VKTG_VK_CHECK(vkAllocateDescriptorSets(device, &alloc, &m_set));
 
   std::array<VkDescriptorBufferInfo, gpu::kBindingCount> infos{};
-  std::array<VkWriteDescriptorSet, gpu::kBindingCount> writes{};
+  std::array<VkWriteDescriptorSet, gpu::kBindingCount + gpu::kTexelBindingCount> writes{};
   for (uint32_t b = 0; b < count; ++b) {
     infos[b] = {table.buffers[b] ? table.buffers[b] : dummy.handle(), 0, VK_WHOLE_SIZE};
     writes[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
@@ -204,7 +209,22 @@ DescriptorSet::DescriptorSet(const VulkanContext& context, const PassPipelines& 
     writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     writes[b].pBufferInfo = &infos[b];
   }
-  vkUpdateDescriptorSets(device, count, writes.data(), 0, nullptr);
+  // Texel bindings the table leaves empty (passes or scenes that load through storage buffers)
+  // view the dummy buffer.
+  if (!table.triangleTexels || !table.bvhNodeTexels) m_dummyView = texelView(context, dummy, "dummy.texels");
+  const VkBufferView views[] = {table.triangleTexels ? table.triangleTexels : m_dummyView.get(),
+                                table.bvhNodeTexels ? table.bvhNodeTexels : m_dummyView.get()};
+  const uint32_t texelBindings[] = {gpu::kBindingTriangleTexels, gpu::kBindingBvhNodeTexels};
+  for (uint32_t k = 0; k < gpu::kTexelBindingCount; ++k) {
+    VkWriteDescriptorSet& w = writes[count + k];
+    w = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = m_set;
+    w.dstBinding = texelBindings[k];
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    w.pTexelBufferView = &views[k];
+  }
+  vkUpdateDescriptorSets(device, count + gpu::kTexelBindingCount, writes.data(), 0, nullptr);
 }
 
 std::filesystem::path defaultPipelineCacheFile(const VulkanContext& context) {

@@ -1,6 +1,7 @@
 // A descriptor-set layout and pipeline layout shared by a family of passes (the render passes use
 // gpu::kBindingCount bindings, the scene-update passes gpu::kUpdateBindingCount; all are storage
-// buffers, the frame block at binding 0 included, see shaders/lib/scene_bindings.glsl), compute
+// buffers, the frame block at binding 0 included, see shaders/lib/scene_bindings.glsl, and both
+// add the scene's two uniform texel buffers, gpu::kBindingTriangleTexels/BvhNodeTexels), compute
 // pipelines created on demand per (shader variant, specialisation constants), those a render needs
 // together in parallel, and descriptor sets.
 // Pipelines are cached on disk (VkPipelineCache) keyed by device, driver and vktg build.
@@ -53,6 +54,7 @@ class PassPipelines {
 // What each binding of set 0 points at; unset bindings get a small dummy buffer.
 struct BindingTable {
   std::array<VkBuffer, gpu::kBindingCount> buffers{};
+  VkBufferView triangleTexels = VK_NULL_HANDLE, bvhNodeTexels = VK_NULL_HANDLE;
   void set(uint32_t binding, const Buffer& buffer) { buffers[binding] = buffer.handle(); }
   void setChunks(uint32_t firstBinding, const ChunkedBuffer& chunked);
   void setScene(const GpuScene& scene);
@@ -66,6 +68,7 @@ class DescriptorSet {
   VkDescriptorSet get() const { return m_set; }
 
  private:
+  BufferView m_dummyView;
   DescriptorPool m_pool;
   VkDescriptorSet m_set = VK_NULL_HANDLE;
 };

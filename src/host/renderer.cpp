@@ -290,6 +290,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
       plan.ellipsoidSelection == EllipsoidSelection::Enumerate ? gpu::kEllipsoidEnumerate : gpu::kEllipsoidDescend;
   spec[gpu::kSpecCameraConnections] = fromCamera ? 1u : 0u;
   spec[gpu::kSpecSingleChunk] = gpuScene.singleChunk() && film.single() ? 1u : 0u;
+  spec[gpu::kSpecSceneTexels] = gpuScene.texels() ? 1u : 0u;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";
@@ -438,6 +439,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   stats.silhouetteEdges = edgeCount;
   stats.batchSize = batchSize;
   stats.deviceBytes = gpuScene.bytes + resources.bytes() + filmBytes + edgeBytes;
+  stats.sceneTexels = gpuScene.texels();
   stats.bufferChunks = uint32_t(
       std::max({gpuScene.triangles.chunks.size(), gpuScene.bvhNodes.chunks.size(), film.chunks.size()}));
   result.passMilliseconds = profiler.millisecondsPerPass();

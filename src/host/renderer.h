@@ -78,6 +78,7 @@ struct RenderStats {
   uint32_t batches = 0, batchSize = 0;
   uint64_t deviceBytes = 0;  // scene + wavefront + film
   uint32_t bufferChunks = 0; // the most chunks a chunked buffer (triangles, BVH nodes, film) took
+  bool sceneTexels = false;  // the traversal loaded triangles and BVH nodes through texel buffers
   double seconds = 0;        // wall time of the batches (excludes pipeline creation)
 };
 

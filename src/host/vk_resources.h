@@ -50,13 +50,15 @@ using PipelineCache = DeviceHandle<VkPipelineCache, vkDestroyPipelineCache>;
 using DescriptorSetLayout = DeviceHandle<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
 using DescriptorPool = DeviceHandle<VkDescriptorPool, vkDestroyDescriptorPool>;
 using QueryPool = DeviceHandle<VkQueryPool, vkDestroyQueryPool>;
+using BufferView = DeviceHandle<VkBufferView, vkDestroyBufferView>;
 
 enum class MemoryKind {
   Device,    // device-local; mapped too when the device offers host-visible device memory
   Readback,  // host-visible and cached, for copies back to the host
 };
 
-// A buffer with its own memory allocation. Usable as storage, uniform, indirect and copy source/target.
+// A buffer with its own memory allocation. Usable as storage, uniform, uniform texel, indirect and
+// copy source/target.
 class Buffer {
  public:
   Buffer() = default;

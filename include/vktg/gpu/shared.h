@@ -118,7 +118,14 @@ VKTG_CONST(uint, kBindingEdgeRecords, 27);     // EdgeRecord[slot]
 VKTG_CONST(uint, kBindingTestIn, 29);        // test kernels only
 VKTG_CONST(uint, kBindingTestOut, 30);       // test kernels only
 VKTG_CONST(uint, kBindingEdges, 31);        // GpuEdge[]: silhouette-capable edges with a CDF by length
-VKTG_CONST(uint, kBindingCount, 32);
+VKTG_CONST(uint, kBindingCount, 32);  // storage-buffer bindings 0..31
+// Uniform texel buffers (R32G32B32A32_UINT) over the scene's triangles and BVH nodes, in every
+// layout: the traversal's loads where kSpecSceneTexels is set. A CPU device fetches a lane's texel
+// as one 16-byte load, where it loads a storage buffer's components one lane and one bounds check
+// at a time.
+VKTG_CONST(uint, kBindingTriangleTexels, 32);
+VKTG_CONST(uint, kBindingBvhNodeTexels, 33);
+VKTG_CONST(uint, kTexelBindingCount, 2);
 
 // Scene-update passes (move_vertices, update_triangles, refit_bvh, update_edges) use their own layout:
 // bindings 0-13 as above (frame and scene), then these.
@@ -161,7 +168,8 @@ VKTG_CONST(uint, kSpecAdjointTargets, 8); // adjoint variants: kAdjoint* bits, w
 VKTG_CONST(uint, kSpecEllipsoidSelection, 9);  // kEllipsoidDescend / kEllipsoidEnumerate
 VKTG_CONST(uint, kSpecCameraConnections, 10);   // 1: the shadow queue holds connect_camera_boundary's connections
 VKTG_CONST(uint, kSpecSingleChunk, 11);  // 1: triangles, BVH nodes and film each fit their first chunk
-VKTG_CONST(uint, kSpecCount, 12);
+VKTG_CONST(uint, kSpecSceneTexels, 12);  // 1: triangle and BVH node loads through the texel bindings
+VKTG_CONST(uint, kSpecCount, 13);
 
 // How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
 VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
