@@ -71,7 +71,7 @@ BufferView texelView(const VulkanContext& context, const Buffer& buffer, const s
 namespace {
 
 // Whether the traversal loads the scene through texel buffers: by default on CPU devices (lavapipe
-// traces 1.2-1.9x the rays per second with them, docs/benchmarks.md), never where a buffer takes
+// traces 1.2-1.5x the rays per second with them, docs/benchmarks.md), never where a buffer takes
 // several chunks or more texels than a view may hold.
 bool useSceneTexels(const VulkanContext& context, const GpuScene& scene) {
   const uint64_t limit = context.properties().limits.maxTexelBufferElements;
