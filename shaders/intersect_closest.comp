@@ -15,7 +15,7 @@ void main() {
   uint index = gl_GlobalInvocationID.x;
   if (index >= counters[kCounterRays0 + parity]) return;
   uint path = rayQueues[parity * frame.pathInfo.w + index];
-  PathState ps = paths[path];
+  PathState ps = loadPath(path);
   // Rays leave the exact (un-offset) vertex; tMin skips the surface they start on. The camera
   // and the point sensor are not on a surface.
   float tMin = ps.ids.z == 0u ? 0.0 : frame.sceneInfo.x;

@@ -27,8 +27,8 @@ void shadeHit() {
   if (index >= counters[kCounterRays0 + parity]) return;
   uint batch = frame.pathInfo.w;
   uint path = rayQueues[parity * batch + index];
-  PathState ps = paths[path];
-  HitRecord hit = hits[path];
+  PathState ps = loadPath(path);
+  HitRecord hit = loadHit(path);
   if (hit.tuvTriangle.x < 0.0) return;  // escaped: no environment light
 
   uint pixel = ps.ids.x, sampleIndex = ps.ids.y;

@@ -15,6 +15,24 @@ layout(std430, set = 0, binding = kBindingCounters) buffer CountersBlock { uint 
 layout(std430, set = 0, binding = kBindingDispatchArgs) buffer DispatchArgsBlock { uint dispatchArgs[]; };
 layout(std430, set = 0, binding = kBindingPathAccum) buffer PathAccumBlock { float pathAccum[]; };
 
+// The same path states and hits as 16-byte texels (kSpecWaveTexels; shared.h says
+// why). A pass reads them only where earlier passes wrote them: texel reads need not see its own
+// writes.
+layout(set = 0, binding = kBindingPathTexels) uniform usamplerBuffer pathTexels;
+layout(set = 0, binding = kBindingHitTexels) uniform usamplerBuffer hitTexels;
+
+PathState loadPath(uint p) {
+  if (kSpecWaveTexelsValue == 0u) return paths[p];
+  int t = 6 * int(p);
+  return PathState(texelVec4(pathTexels, t), texelVec4(pathTexels, t + 1), texelVec4(pathTexels, t + 2),
+                   texelVec4(pathTexels, t + 3), texelFetch(pathTexels, t + 4), texelVec4(pathTexels, t + 5));
+}
+
+HitRecord loadHit(uint p) {
+  if (kSpecWaveTexelsValue == 0u) return hits[p];
+  return HitRecord(texelVec4(hitTexels, int(p)));
+}
+
 // Forward-mode lanes: what each lane differentiates (VKTG_LANE_INPUTS, also read by
 // accumulate_splats), and the per-path derivative state (VKTG_DERIVATIVE).
 #if defined(VKTG_DERIVATIVE) || defined(VKTG_LANE_INPUTS)

@@ -41,7 +41,8 @@ struct GpuScene {
   Buffer lights;
   // Views of triangles and BVH nodes for the traversal's loads (kSpecSceneTexels), made where they
   // measure faster: on CPU devices, where each holds one chunk and fits maxTexelBufferElements.
-  // VKTG_SCENE_ACCESS=storage|texel overrides the device's choice (tests, benchmarks).
+  // VKTG_SCENE_ACCESS=storage|texel overrides the device's choice (tests, benchmarks); renders
+  // read path states and hits through texel views where the scene has them.
   BufferView triangleTexels, bvhNodeTexels;
   size_t bytes = 0;  // device memory held
 

@@ -37,8 +37,9 @@ PassPipelines::PassPipelines(const VulkanContext& context, const ShaderTable& sh
     binding.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     bindings.push_back(binding);
   }
-  for (uint32_t b : {gpu::kBindingTriangleTexels, gpu::kBindingBvhNodeTexels})
-    bindings.push_back({b, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+  for (uint32_t k = 0; k < gpu::kTexelBindingCount; ++k)
+    bindings.push_back(
+        {gpu::kFirstTexelBinding + k, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
   VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   setInfo.bindingCount = uint32_t(bindings.size());
   setInfo.pBindings = bindings.data();
@@ -169,8 +170,8 @@ void BindingTable::setChunks(uint32_t firstBinding, const ChunkedBuffer& chunked
 void BindingTable::setScene(const GpuScene& scene) {
   setChunks(gpu::kBindingTriangles, scene.triangles);
   setChunks(gpu::kBindingBvhNodes, scene.bvhNodes);
-  triangleTexels = scene.triangleTexels.get();
-  bvhNodeTexels = scene.bvhNodeTexels.get();
+  setTexels(gpu::kBindingTriangleTexels, scene.triangleTexels);
+  setTexels(gpu::kBindingBvhNodeTexels, scene.bvhNodeTexels);
   set(gpu::kBindingTriangleVerts, scene.triangleVerts);
   set(gpu::kBindingVertices, scene.vertices);
   set(gpu::kBindingShapes, scene.shapes);
@@ -211,15 +212,17 @@ DescriptorSet::DescriptorSet(const VulkanContext& context, const PassPipelines& 
   }
   // Texel bindings the table leaves empty (passes or scenes that load through storage buffers)
   // view the dummy buffer.
-  if (!table.triangleTexels || !table.bvhNodeTexels) m_dummyView = texelView(context, dummy, "dummy.texels");
-  const VkBufferView views[] = {table.triangleTexels ? table.triangleTexels : m_dummyView.get(),
-                                table.bvhNodeTexels ? table.bvhNodeTexels : m_dummyView.get()};
-  const uint32_t texelBindings[] = {gpu::kBindingTriangleTexels, gpu::kBindingBvhNodeTexels};
+  std::array<VkBufferView, gpu::kTexelBindingCount> views = table.texels;
+  for (VkBufferView& view : views) {
+    if (view) continue;
+    if (!m_dummyView) m_dummyView = texelView(context, dummy, "dummy.texels");
+    view = m_dummyView.get();
+  }
   for (uint32_t k = 0; k < gpu::kTexelBindingCount; ++k) {
     VkWriteDescriptorSet& w = writes[count + k];
     w = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstSet = m_set;
-    w.dstBinding = texelBindings[k];
+    w.dstBinding = gpu::kFirstTexelBinding + k;
     w.descriptorCount = 1;
     w.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     w.pTexelBufferView = &views[k];

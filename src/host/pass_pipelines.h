@@ -1,7 +1,7 @@
 // A descriptor-set layout and pipeline layout shared by a family of passes (the render passes use
 // gpu::kBindingCount bindings, the scene-update passes gpu::kUpdateBindingCount; all are storage
 // buffers, the frame block at binding 0 included, see shaders/lib/scene_bindings.glsl, and both
-// add the scene's two uniform texel buffers, gpu::kBindingTriangleTexels/BvhNodeTexels), compute
+// add gpu::kTexelBindingCount uniform texel buffers from gpu::kFirstTexelBinding), compute
 // pipelines created on demand per (shader variant, specialisation constants), those a render needs
 // together in parallel, and descriptor sets.
 // Pipelines are cached on disk (VkPipelineCache) keyed by device, driver and vktg build.
@@ -54,8 +54,9 @@ class PassPipelines {
 // What each binding of set 0 points at; unset bindings get a small dummy buffer.
 struct BindingTable {
   std::array<VkBuffer, gpu::kBindingCount> buffers{};
-  VkBufferView triangleTexels = VK_NULL_HANDLE, bvhNodeTexels = VK_NULL_HANDLE;
+  std::array<VkBufferView, gpu::kTexelBindingCount> texels{};  // bindings kFirstTexelBinding + k
   void set(uint32_t binding, const Buffer& buffer) { buffers[binding] = buffer.handle(); }
+  void setTexels(uint32_t binding, const BufferView& view) { texels[binding - gpu::kFirstTexelBinding] = view.get(); }
   void setChunks(uint32_t firstBinding, const ChunkedBuffer& chunked);
   void setScene(const GpuScene& scene);
 };

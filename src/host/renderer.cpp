@@ -214,6 +214,15 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   const uint32_t samplesPerBatch = batchSize / slotsPerSample;
   FrameResources& resources = m_impl->frameResources(key);
   WavefrontBuffers& wave = resources.wave;
+  // Where the scene is read through texel views (CPU devices), the path states and hits are too
+  // (shade 1.2x faster on the default room), if a batch's path states fit one view.
+  const bool waveTexels =
+      gpuScene.texels() && wave.paths.size() / 16 <= context.properties().limits.maxTexelBufferElements;
+  BufferView pathTexels, hitTexels;
+  if (waveTexels) {
+    pathTexels = texelView(context, wave.paths, "wavefront.pathTexels");
+    hitTexels = texelView(context, wave.hits, "wavefront.hitTexels");
+  }
 
   // Forward-mode inputs: per-lane vertex velocities and what each lane differentiates.
   std::optional<Buffer> velocityBuffer, laneBuffer;
@@ -250,6 +259,8 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   table.setScene(gpuScene);
   table.set(gpu::kBindingFrame, frameBuffer);
   table.set(gpu::kBindingPaths, wave.paths);
+  table.setTexels(gpu::kBindingPathTexels, pathTexels);
+  table.setTexels(gpu::kBindingHitTexels, hitTexels);
   table.set(gpu::kBindingHits, wave.hits);
   table.set(gpu::kBindingRayQueues, wave.rayQueues);
   table.set(gpu::kBindingShadowQueue, wave.shadowQueue);
@@ -291,6 +302,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   spec[gpu::kSpecCameraConnections] = fromCamera ? 1u : 0u;
   spec[gpu::kSpecSingleChunk] = gpuScene.singleChunk() && film.single() ? 1u : 0u;
   spec[gpu::kSpecSceneTexels] = gpuScene.texels() ? 1u : 0u;
+  spec[gpu::kSpecWaveTexels] = waveTexels ? 1u : 0u;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";
@@ -440,6 +452,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   stats.batchSize = batchSize;
   stats.deviceBytes = gpuScene.bytes + resources.bytes() + filmBytes + edgeBytes;
   stats.sceneTexels = gpuScene.texels();
+  stats.waveTexels = waveTexels;
   stats.bufferChunks = uint32_t(
       std::max({gpuScene.triangles.chunks.size(), gpuScene.bvhNodes.chunks.size(), film.chunks.size()}));
   result.passMilliseconds = profiler.millisecondsPerPass();

@@ -119,13 +119,17 @@ VKTG_CONST(uint, kBindingTestIn, 29);        // test kernels only
 VKTG_CONST(uint, kBindingTestOut, 30);       // test kernels only
 VKTG_CONST(uint, kBindingEdges, 31);        // GpuEdge[]: silhouette-capable edges with a CDF by length
 VKTG_CONST(uint, kBindingCount, 32);  // storage-buffer bindings 0..31
-// Uniform texel buffers (R32G32B32A32_UINT) over the scene's triangles and BVH nodes, in every
-// layout: the traversal's loads where kSpecSceneTexels is set. A CPU device fetches a lane's texel
-// as one 16-byte load, where it loads a storage buffer's components one lane and one bounds check
-// at a time.
+// Uniform texel buffers (R32G32B32A32_UINT), in every layout: read-only views of buffers the
+// storage bindings also hold. A CPU device fetches a lane's texel as one 16-byte load, where it
+// loads a storage buffer's components one lane and one bounds check at a time. The scene's
+// triangles and BVH nodes are read through them where kSpecSceneTexels is set, the path states and
+// hits where kSpecWaveTexels is (shadow rays through them measured no faster).
+VKTG_CONST(uint, kFirstTexelBinding, 32);
 VKTG_CONST(uint, kBindingTriangleTexels, 32);
 VKTG_CONST(uint, kBindingBvhNodeTexels, 33);
-VKTG_CONST(uint, kTexelBindingCount, 2);
+VKTG_CONST(uint, kBindingPathTexels, 34);  // PathState[batch], read by intersect_closest and shade
+VKTG_CONST(uint, kBindingHitTexels, 35);   // HitRecord[batch], read by shade
+VKTG_CONST(uint, kTexelBindingCount, 4);
 
 // Scene-update passes (move_vertices, update_triangles, refit_bvh, update_edges) use their own layout:
 // bindings 0-13 as above (frame and scene), then these.
@@ -169,7 +173,8 @@ VKTG_CONST(uint, kSpecEllipsoidSelection, 9);  // kEllipsoidDescend / kEllipsoid
 VKTG_CONST(uint, kSpecCameraConnections, 10);   // 1: the shadow queue holds connect_camera_boundary's connections
 VKTG_CONST(uint, kSpecSingleChunk, 11);  // 1: triangles, BVH nodes and film each fit their first chunk
 VKTG_CONST(uint, kSpecSceneTexels, 12);  // 1: triangle and BVH node loads through the texel bindings
-VKTG_CONST(uint, kSpecCount, 13);
+VKTG_CONST(uint, kSpecWaveTexels, 13);   // 1: path-state and hit loads through the texel bindings
+VKTG_CONST(uint, kSpecCount, 14);
 
 // How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
 VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
