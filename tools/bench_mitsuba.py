@@ -180,6 +180,14 @@ def main():
                 rows.append((gate, name, t, relmse, relmse * t, mean, sem))
                 print(f"bench_mitsuba:   {name}: {t:.3g} s, relMSE {relmse:.3g}, relMSE x time {relmse * t:.3g}, "
                       f"image mean {mean:.6g} +- {sem:.2g}", file=sys.stderr)
+            # The renderers compute the same integral: means further apart than their noise allows
+            # mean the translation (or a renderer) is wrong, and the comparison with it.
+            reference = rows[-len(cases)]
+            for _, name, _, _, _, mean, sem in rows[-len(cases) + 1:]:
+                z = abs(mean - reference[5]) / max(math.hypot(sem, reference[6]), 1e-30)
+                if z > 4:
+                    print(f"bench_mitsuba: warning: {name}'s image mean is {z:.1f} standard errors from Mitsuba's",
+                          file=sys.stderr)
 
     lines = [f"`tools/bench-mitsuba {os.path.relpath(args.scene)} --spp {args.spp} --runs {args.runs} --resolution "
              f"{args.resolution} --max-depth {args.max_depth} --gates '{args.gates}'`: {args.runs} renders per renderer "
