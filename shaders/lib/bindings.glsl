@@ -15,9 +15,8 @@ layout(std430, set = 0, binding = kBindingCounters) buffer CountersBlock { uint 
 layout(std430, set = 0, binding = kBindingDispatchArgs) buffer DispatchArgsBlock { uint dispatchArgs[]; };
 layout(std430, set = 0, binding = kBindingPathAccum) buffer PathAccumBlock { float pathAccum[]; };
 
-// The same path states and hits as 16-byte texels (kSpecWaveTexels; shared.h says
-// why). A pass reads them only where earlier passes wrote them: texel reads need not see its own
-// writes.
+// The same path states and hits as 16-byte texels (kSpecWaveTexels; shared.h says why). A pass
+// reads them only where earlier passes wrote them: texel reads need not see its own writes.
 layout(set = 0, binding = kBindingPathTexels) uniform usamplerBuffer pathTexels;
 layout(set = 0, binding = kBindingHitTexels) uniform usamplerBuffer hitTexels;
 
