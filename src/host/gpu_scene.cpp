@@ -5,6 +5,8 @@
 #include <cerrno>
 #include <cstdlib>
 
+#include <glm/glm.hpp>
+
 #include "host/vk_check.h"
 #include "vktg/error.h"
 
@@ -57,6 +59,10 @@ ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, 
   return out;
 }
 
+bool fitsTexelView(const VulkanContext& context, const Buffer& buffer) {
+  return buffer.size() / sizeof(glm::uvec4) <= context.properties().limits.maxTexelBufferElements;
+}
+
 BufferView texelView(const VulkanContext& context, const Buffer& buffer, const std::string& name) {
   VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
   info.buffer = buffer.handle();
@@ -74,10 +80,8 @@ namespace {
 // traces 1.2-1.5x the rays per second with them, docs/benchmarks.md), never where a buffer takes
 // several chunks or more texels than a view may hold.
 bool useSceneTexels(const VulkanContext& context, const GpuScene& scene) {
-  const uint64_t limit = context.properties().limits.maxTexelBufferElements;
-  constexpr uint64_t kTexel = 16;
-  if (!scene.triangles.single() || !scene.bvhNodes.single() || scene.triangles.chunks[0].size() / kTexel > limit ||
-      scene.bvhNodes.chunks[0].size() / kTexel > limit)
+  if (!scene.triangles.single() || !scene.bvhNodes.single() || !fitsTexelView(context, scene.triangles.chunks[0]) ||
+      !fitsTexelView(context, scene.bvhNodes.chunks[0]))
     return false;
   const char* access = std::getenv("VKTG_SCENE_ACCESS");
   if (!access || !*access) return context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;

@@ -23,8 +23,10 @@ uint32_t chunkShiftFor(size_t elementSize, size_t count, uint64_t maxRange, cons
 // The most bytes one chunk may hold on this device: maxStorageBufferRange, or less where the
 // environment variable VKTG_MAX_CHUNK_BYTES asks for less (so tests split buffers on any device).
 uint64_t maxChunkBytes(const VulkanContext& context);
-// A view of `buffer` as R32G32B32A32_UINT texels (a uniform texel buffer).
+// A view of `buffer` as R32G32B32A32_UINT texels (a uniform texel buffer), and whether one view can
+// cover it (maxTexelBufferElements).
 BufferView texelView(const VulkanContext& context, const Buffer& buffer, const std::string& name);
+bool fitsTexelView(const VulkanContext& context, const Buffer& buffer);
 ChunkedBuffer uploadChunked(const VulkanContext& context, const void* data, size_t elementSize, size_t count,
                             const std::string& name);
 ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, size_t count, const std::string& name);

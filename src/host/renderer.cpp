@@ -216,8 +216,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   WavefrontBuffers& wave = resources.wave;
   // Where the scene is read through texel views (CPU devices), the path states and hits are too
   // (shade 1.2x faster on the default room), if a batch's path states fit one view.
-  const bool waveTexels =
-      gpuScene.texels() && wave.paths.size() / 16 <= context.properties().limits.maxTexelBufferElements;
+  const bool waveTexels = gpuScene.texels() && fitsTexelView(context, wave.paths);
   BufferView pathTexels, hitTexels;
   if (waveTexels) {
     pathTexels = texelView(context, wave.paths, "wavefront.pathTexels");
