@@ -50,6 +50,7 @@ const CommandSpec& benchSpec() {
                  {"--sizes", "N,N,...",
                   "optimize, nee, trace: heightfield vertices per side (default 11,100,1000; nee 17,257,725; trace 257,725)"},
                  {"--no-path-length", "", "optimize: leave out the path-length-boundary term"},
+                 {"--profile", "", "optimize: device time per pass of the render and of every gradient variant (last run)"},
                  {"--no-embree", "", "trace: vktg only, even when built with Embree"}};
     for (auto& o : deviceOptions()) s.options.push_back(o);
     s.examples = "  vktg bench render --out runs/bench-render\n  vktg bench render --scale 0.25 --runs 1 --steps 3\n";
@@ -118,6 +119,7 @@ int runBench(const std::vector<std::string>& argv) {
     static_cast<BenchOptions&>(bench) = options;
     if (auto sizes = args.get("--sizes")) bench.sizes = parseSizes(*sizes);
     bench.pathLength = !args.has("--no-path-length");
+    bench.profile = args.has("--profile");
     writeBenchOptimizeReport(benchOptimize(*context, bench), bench, command);
     log("wrote " + options.outDir.string() + "/{bench.csv,plot.png,table.md}");
     return finishWithValidationCheck(*context, 0);

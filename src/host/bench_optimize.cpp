@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iomanip>
 #include <random>
 #include <sstream>
 
@@ -100,15 +101,26 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     renderOptions.memoryBudget = options.memoryBudget;
     const ImageSet adjoint = randomAdjoint(setup.camera.width, setup.camera.height);
     const std::vector<AdjointView> views = {{setup, {}, &adjoint}};
+    renderOptions.profile = options.profile;
     struct Variant {
+      const char* name;
       double* seconds;
       bool interior, edges, pathLength, sharePaths = true;
     };
-    const Variant variants[] = {{&row.interiorSeconds, true, false, false},
-                                {&row.edgeSeconds, false, true, false},
-                                {&row.boundarySeconds, false, false, true},
-                                {&row.allSeconds, true, true, true},  // every term the options allow
-                                {&row.allApartSeconds, true, true, true, false}};
+    const Variant variants[] = {{"interior", &row.interiorSeconds, true, false, false},
+                                {"edges", &row.edgeSeconds, false, true, false},
+                                {"path-length boundary", &row.boundarySeconds, false, false, true},
+                                {"all terms", &row.allSeconds, true, true, true},  // every term the options allow
+                                {"all terms apart", &row.allApartSeconds, true, true, true, false}};
+    auto sayProfile = [&](const std::string& what, const std::map<std::string, double>& passes) {
+      if (!options.profile) return;
+      double total = 0;
+      for (const auto& [pass, ms] : passes) total += ms;
+      std::ostringstream text;
+      text << "  " << what << ": " << std::fixed << std::setprecision(1) << total << " ms on the device";
+      for (const auto& [pass, ms] : passes) text << "\n    " << std::setw(9) << ms << " ms  " << pass;
+      options.say(text.str());
+    };
     AdjointState state;
     std::mt19937 rng(1);
     std::uniform_real_distribution<double> step(-1e-3, 1e-3);
@@ -133,8 +145,9 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
       device.update(theta, true);  // the same θ again, with the SAH check
       checked.push_back(secondsSince(start));
       start = std::chrono::steady_clock::now();
-      renderer.render(device, setup, renderOptions);
+      const RenderResult primal = renderer.render(device, setup, renderOptions);
       render.push_back(secondsSince(start));
+      if (run + 1 == options.runs) sayProfile("render", primal.passMilliseconds);
       for (size_t v = 0; v < std::size(variants); ++v) {
         if (variants[v].pathLength && !variants[v].interior && !options.pathLength) continue;
         GradientOptions g;
@@ -143,8 +156,9 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
         g.pathLength = variants[v].pathLength && options.pathLength;
         g.sharePaths = variants[v].sharePaths;
         start = std::chrono::steady_clock::now();
-        lossGradient(renderer, device, views, g, state);
+        const LossGradient gradient = lossGradient(renderer, device, views, g, state);
         terms[v].push_back(secondsSince(start));
+        if (run + 1 == options.runs) sayProfile(variants[v].name, gradient.passMilliseconds);
       }
     }
     row.updateSeconds = median(update);

@@ -17,6 +17,7 @@ struct BenchOptimizeOptions : BenchOptions {
   uint32_t resolution = 128;                      // image width and height (times BenchOptions::scale)
   uint32_t spp = 16;                              // of the render and of every gradient term
   bool pathLength = true;                         // false: skip the path-length-boundary term (and "all three")
+  bool profile = false;                           // say each pass's device time (last run) for the render and every variant
 };
 
 struct BenchOptimizeRow {

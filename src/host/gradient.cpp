@@ -113,6 +113,17 @@ namespace {
 // terms on one set of paths.
 enum class Term { Interior, Edge, PathLengthPerPixel, PathLengthFromCamera, InteriorAndPathLength };
 
+const char* termName(Term term) {
+  switch (term) {
+    case Term::Interior: return "interior";
+    case Term::Edge: return "edges";
+    case Term::PathLengthPerPixel: return "boundary";
+    case Term::PathLengthFromCamera: return "boundary-from-camera";
+    case Term::InteriorAndPathLength: return "interior+boundary";
+  }
+  return "?";
+}
+
 struct TermPass {
   Term term;
   RenderOptions options;
@@ -299,6 +310,7 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     result.attempts++;
     state.accumulator->clear();
     RenderStats stats;
+    result.passMilliseconds.clear();
     for (size_t v = 0; v < views.size(); ++v) {
       const AdjointView& view = views[v];
       scene.placePointLights(view.lightPositions);
@@ -307,7 +319,9 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
         RenderSetup termSetup = view.setup;
         if (pass.spp > 0) termSetup.settings.spp = pass.spp;
         pass.options.adjoint = &target;
-        addStats(stats, renderer.render(scene, termSetup, pass.options).stats);
+        const RenderResult r = renderer.render(scene, termSetup, pass.options);
+        addStats(stats, r.stats);
+        for (const auto& [name, ms] : r.passMilliseconds) result.passMilliseconds[std::string(termName(pass.term)) + "/" + name] += ms;
       }
     }
     result.stats = stats;

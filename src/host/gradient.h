@@ -4,6 +4,7 @@
 // `vktg fd` (central finite differences with common random numbers, the reference the derivative
 // passes are checked by).
 #pragma once
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -107,6 +108,9 @@ struct LossGradient {
   GradientPlan plan;
   RenderStats stats;
   uint32_t attempts = 0;      // renders of the whole gradient (more than one when the scale was refined)
+  // With options.render.profile: device time per pass of the last attempt, summed over views, keyed
+  // "term/pass" (the term names of termName).
+  std::map<std::string, double> passMilliseconds;
 };
 
 // d loss / d θ = sum over views and pixels of adjoint × d image / d θ, by adjoint renders of every
