@@ -53,6 +53,7 @@ TEST(CliBenchTrace, DeviceRaysAgreeWithTheHostTraversal) {
     EXPECT_GT(std::stod(row.at("rays_per_second")), 0.0) << what;
     EXPECT_EQ(row.at("checked"), "4096") << what;
     EXPECT_EQ(row.at("disagreements"), "0") << what;
+    EXPECT_TRUE(row.at("tree") == "4-wide" || row.at("tree") == "binary") << what << ": tree " << row.at("tree");
     const double hits = std::stod(row.at("hit_fraction"));
     EXPECT_GT(hits, 0.5) << what << ": the rays should mostly hit the room";
     const std::string key = row.at("scene") + "/" + row.at("rays");

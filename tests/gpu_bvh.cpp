@@ -18,6 +18,7 @@
 
 #include "support/gpu_test.h"
 #include "support/hit_distance_reference.h"
+#include "support/scoped_env.h"
 #include "vktg/bvh.h"
 
 namespace vktg::test {
@@ -59,7 +60,7 @@ Scene sceneOf(const std::vector<BvhTriangle>& soup) {
 // closest distance (the GPU's division may order two equal-looking distances either way).
 constexpr double kTieUlps = 4.0;
 
-void expectGpuMatchesCpu(const std::vector<BvhTriangle>& soup, const std::vector<RayIn>& rays) {
+void expectGpuMatchesCpuWith(const std::vector<BvhTriangle>& soup, const std::vector<RayIn>& rays) {
   Bvh bvh = buildBvh(soup);
   std::vector<BvhTriangle> ordered(soup.size());
   for (size_t i = 0; i < ordered.size(); ++i) ordered[i] = soup[bvh.order[i]];
@@ -103,6 +104,17 @@ void expectGpuMatchesCpu(const std::vector<BvhTriangle>& soup, const std::vector
   EXPECT_GE(hits, rays.size() / 5) << "too few hits for the comparison to mean anything";
   std::printf("  %zu rays, %zu hits, %zu ties; hit distance error at most %.3f ulp, %.3g m of path length\n",
               rays.size(), hits, ties, worstUlps, worstMetres);
+}
+
+// Both traversals: the binary tree (GPUs) and the 4-wide one (CPU devices, which read the scene
+// through texel views; elsewhere both runs take the binary tree).
+void expectGpuMatchesCpu(const std::vector<BvhTriangle>& soup, const std::vector<RayIn>& rays) {
+  ASSERT_FALSE(collapseBvh(buildBvh(soup)).empty()) << "the wide layout should hold this tree";
+  for (const char* width : {"2", "4"}) {
+    SCOPED_TRACE(std::string("VKTG_BVH_WIDTH=") + width);
+    ScopedEnv env("VKTG_BVH_WIDTH", width);
+    expectGpuMatchesCpuWith(soup, rays);
+  }
 }
 
 RayIn makeRay(glm::vec3 o, glm::vec3 d, float tMin = 0.0f, float tMax = INFINITY) {

@@ -119,6 +119,22 @@ TEST(DeviceScene, RefitIsTheHostRefitOfTheSameTree) {
                         {a.rightMinCount, b.rightMinCount}, {a.rightMaxFirst, b.rightMaxFirst}})
       EXPECT_LT(glm::length(glm::vec3(x) - glm::vec3(y)), 2e-6f) << "node " << i;
   }
+  // The 4-wide tree (CPU devices) follows: every child box is the device's binary box it came from.
+  if (!device.gpu().wideBvh()) return;
+  const std::vector<gpu::GpuWideBvhNode> built = collapseBvh(device.prepared().bvh);
+  const std::vector<gpu::GpuWideBvhNode> wide = download<gpu::GpuWideBvhNode>(device.gpu().wideBvhNodes, built.size());
+  size_t changed = 0;
+  for (size_t i = 0; i < wide.size(); ++i)
+    for (int k = 0; k < 4; ++k) {
+      const uint32_t source = wide[i].source[k];
+      if (source == gpu::kWideBvhEmpty) continue;
+      const gpu::GpuBvhNode& n = nodes[source / 2];
+      const glm::vec3 lo(source % 2 ? n.rightMinCount : n.leftMinLeftIndex), hi(source % 2 ? n.rightMaxFirst : n.leftMaxRightIndex);
+      EXPECT_EQ(glm::vec3(wide[i].loX[k], wide[i].loY[k], wide[i].loZ[k]), lo) << "wide node " << i << " slot " << k;
+      EXPECT_EQ(glm::vec3(wide[i].hiX[k], wide[i].hiY[k], wide[i].hiZ[k]), hi) << "wide node " << i << " slot " << k;
+      changed += wide[i].loY[k] != built[i].loY[k] || wide[i].hiY[k] != built[i].hiY[k];
+    }
+  EXPECT_GT(changed, 0u) << "the motion should have changed some wide boxes";
 }
 
 // Same seed, same paths: the moved scene renders as the scene built at θ does.

@@ -7,12 +7,15 @@
 // last bits may depend on the device's scheduling.)
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
 #include "support/gpu_context.h"
 #include "support/render_test.h"
+#include "support/scoped_env.h"
 #include "support/test_scenes.h"
+#include "scene/primitives.h"
 #include "vktg/gate.h"
 #include "vktg/parameters.h"
 
@@ -75,13 +78,6 @@ TEST(RenderDeterminism, SameSeedSameBitsAtAnyBatchSize) {
   }
 }
 
-// Sets an environment variable for its lifetime.
-struct ScopedEnv {
-  ScopedEnv(const char* name, const char* value) : name(name) { setenv(name, value, 1); }
-  ~ScopedEnv() { unsetenv(name); }
-  const char* name;
-};
-
 RenderResult renderUnder(const Scene& scene, bool derivative, const char* variable, const char* value) {
   RenderOptions options;
   options.nee = NeeMode::Standard;
@@ -126,6 +122,34 @@ TEST(RenderDeterminism, TexelAndStorageSceneLoadsGiveTheSameBits) {
     expectBitIdentical(storage.mean, texel.mean, "image");
     for (size_t k = 0; k < storage.derivatives.size(); ++k)
       expectBitIdentical(storage.derivatives[k], texel.derivatives[k], "derivative");
+  }
+}
+
+// CPU devices traverse the BVH collapsed to 4 children per node, GPUs the binary one
+// (VKTG_BVH_WIDTH forces either): the same hits, so the same bits. A heightfield on the floor
+// gives the trees some depth.
+TEST(RenderDeterminism, WideAndBinaryBvhGiveTheSameBits) {
+  Scene scene = transientCornell();
+  const uint32_t n = 24;
+  std::vector<float> heights(n * n);
+  for (uint32_t i = 0; i < heights.size(); ++i) heights[i] = 0.05f * std::sin(0.7f * float(i % n)) * std::cos(0.9f * float(i / n));
+  TriangleMesh mesh = makeHeightfield(n, n, 1.6f, 1.6f, heights);
+  Shape floor;
+  floor.name = "floor";
+  floor.positions = std::move(mesh.positions);
+  for (glm::vec3& p : floor.positions) p.y -= 0.9f;
+  floor.triangles = std::move(mesh.triangles);
+  scene.shapes.push_back(std::move(floor));
+  for (bool derivative : {false, true}) {
+    SCOPED_TRACE(derivative ? "derivative lanes" : "image");
+    RenderResult binary = renderUnder(scene, derivative, "VKTG_BVH_WIDTH", "2");
+    RenderResult wide = renderUnder(scene, derivative, "VKTG_BVH_WIDTH", "4");
+    ASSERT_FALSE(binary.stats.wideBvh);
+    if (!wide.stats.sceneTexels) GTEST_SKIP() << "the wide tree is read through texel views, which this device does not use";
+    ASSERT_TRUE(wide.stats.wideBvh);
+    expectBitIdentical(binary.mean, wide.mean, "image");
+    for (size_t k = 0; k < binary.derivatives.size(); ++k)
+      expectBitIdentical(binary.derivatives[k], wide.derivatives[k], "derivative");
   }
 }
 

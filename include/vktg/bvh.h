@@ -35,6 +35,14 @@ struct BvhBuildOptions {
 
 Bvh buildBvh(std::span<const BvhTriangle> triangles, const BvhBuildOptions& options = {});
 
+// The tree collapsed to 4 children per node (gpu::GpuWideBvhNode), for the traversal of CPU devices
+// (kSpecWideBvh): each node adopts the children of its largest-area inner children until it has 4.
+// Triangle order, boxes and leaves are the binary tree's, so a traversal finds the same hits.
+// Empty where the layout cannot hold the tree: a leaf of more than kWideBvhMaxLeafCount triangles,
+// a first triangle past kWideBvhMaxFirst, or a near-first traversal that could need more than
+// kBvhStackSize stack entries.
+std::vector<gpu::GpuWideBvhNode> collapseBvh(const Bvh& bvh);
+
 // Internal nodes by depth, deepest level first: a bottom-up refit can process
 // nodes[levelStart[l] .. levelStart[l + 1]) in parallel once the levels before it are done.
 struct BvhRefitOrder {

@@ -17,10 +17,96 @@
 
 const uint kBvhStackSize = 64u;
 
+// The 4-wide tree (kSpecWideBvh, GpuWideBvhNode): a node's hit children are ordered by entry
+// distance, the nearest visited next and the others pushed, leaves as stack entries of their own
+// (their child codes). The same boxes, slab arithmetic and tie rule as the binary traversal, so
+// the same hits; half the iterations, which is what a CPU device pays for (docs/benchmarks.md).
+// collapseBvh only makes trees whose traversal fits kBvhStackSize entries.
+
+// Compare-exchange of (key, child) pairs: ascending keys.
+void wideBvhSortPair(inout float ka, inout uint ca, inout float kb, inout uint cb) {
+  bool swap = kb < ka;
+  float k = ka;
+  uint c = ca;
+  ka = swap ? kb : ka;
+  ca = swap ? cb : ca;
+  kb = swap ? k : kb;
+  cb = swap ? c : cb;
+}
+
+bool traceWideBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out float tHit, out vec2 uvHit,
+                  out uint triHit) {
+  vec3 invDir = safeInverse(dir);
+  uvec3 axes = shearAxes(dir);
+  uint stack[kBvhStackSize];
+  uint size = 0u;
+  uint entry = 0u;  // the root: inner node 0
+  bool found = false;
+  float tBest = tMax;
+  tHit = -1.0;
+  uvHit = vec2(0.0);
+  triHit = 0u;
+  while (true) {
+    if ((entry & kWideBvhLeaf) != 0u) {
+      uint first = (entry & ~kWideBvhLeaf) >> kWideBvhFirstShift;
+      uint count = entry & kWideBvhMaxLeafCount;
+      for (uint i = first; i < first + count; ++i) {
+        GpuTriangle tri = loadTriangle(i);
+        float t;
+        vec2 uv;
+        if (!intersectTrianglePrepared(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, invDir, axes, tMin, tMax, t, uv))
+          continue;
+        if (!found || t < tBest || (t == tBest && i < triHit)) {
+          found = true;
+          tBest = t;
+          tHit = t;
+          uvHit = uv;
+          triHit = i;
+          if (anyHit) return true;
+        }
+      }
+    } else {
+      int base = 8 * int(entry);
+      vec4 near, far;
+      slabIntervals4(texelVec4(wideBvhTexels, base), texelVec4(wideBvhTexels, base + 1),
+                     texelVec4(wideBvhTexels, base + 2), texelVec4(wideBvhTexels, base + 3),
+                     texelVec4(wideBvhTexels, base + 4), texelVec4(wideBvhTexels, base + 5), origin, invDir, near, far);
+      uvec4 child = texelFetch(wideBvhTexels, base + 6);
+      bvec4 hit = lessThanEqual(max(near, vec4(tMin)), min(far, vec4(tBest)));
+      // Misses sort last: their key is above every hit's.
+      vec4 key = mix(vec4(kInfinity), min(near, vec4(3.4e38)), hit);
+      float k0 = key.x, k1 = key.y, k2 = key.z, k3 = key.w;
+      uint c0 = child.x, c1 = child.y, c2 = child.z, c3 = child.w;
+      wideBvhSortPair(k0, c0, k1, c1);
+      wideBvhSortPair(k2, c2, k3, c3);
+      wideBvhSortPair(k0, c0, k2, c2);
+      wideBvhSortPair(k1, c1, k3, c3);
+      wideBvhSortPair(k1, c1, k2, c2);
+      uint hits = uint(hit.x) + uint(hit.y) + uint(hit.z) + uint(hit.w);
+      if (hits > 0u) {
+        if (size + hits - 1u > kBvhStackSize) break;
+        if (hits > 3u) stack[size++] = c3;
+        if (hits > 2u) stack[size++] = c2;
+        if (hits > 1u) stack[size++] = c1;
+        entry = c0;
+        continue;
+      }
+    }
+    if (size == 0u) break;
+    entry = stack[--size];
+  }
+  if (found && !anyHit) {
+    GpuTriangle tri = loadTriangle(triHit);
+    tHit = refinedHitDistance(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, tHit);
+  }
+  return found;
+}
+
 // anyHit: stop at the first accepted hit. Returns whether anything was hit in (tMin, tMax) and
 // the closest hit (t, u, v, leaf-order triangle index).
 bool traceBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out float tHit, out vec2 uvHit,
               out uint triHit) {
+  if (kSpecWideBvhValue != 0u) return traceWideBvh(origin, dir, tMin, tMax, anyHit, tHit, uvHit, triHit);
   vec3 invDir = safeInverse(dir);
   uvec3 axes = shearAxes(dir);
   uint stack[kBvhStackSize];

@@ -53,6 +53,24 @@ vec2 slabInterval(vec3 lo, vec3 hi, vec3 origin, vec3 invDir) {
   return vec2(widenDown(n), widenUp(f));
 }
 
+// The slab test of four boxes at once (the 4-wide BVH's children, structure of arrays): each
+// component rounds exactly as slabInterval does for that box.
+void slabIntervals4(vec4 loX, vec4 loY, vec4 loZ, vec4 hiX, vec4 hiY, vec4 hiZ, vec3 origin, vec3 invDir,
+                    out vec4 near, out vec4 far) {
+  precise vec4 nx = ((invDir.x >= 0.0 ? loX : hiX) - origin.x) * invDir.x;
+  precise vec4 ny = ((invDir.y >= 0.0 ? loY : hiY) - origin.y) * invDir.y;
+  precise vec4 nz = ((invDir.z >= 0.0 ? loZ : hiZ) - origin.z) * invDir.z;
+  precise vec4 fx = ((invDir.x >= 0.0 ? hiX : loX) - origin.x) * invDir.x;
+  precise vec4 fy = ((invDir.y >= 0.0 ? hiY : loY) - origin.y) * invDir.y;
+  precise vec4 fz = ((invDir.z >= 0.0 ? hiZ : loZ) - origin.z) * invDir.z;
+  vec4 n = max(max(nx, ny), nz);
+  vec4 f = min(min(fx, fy), fz);
+  precise vec4 down = n * mix(vec4(1.0 + kSlabWiden), vec4(1.0 - kSlabWiden), greaterThanEqual(n, vec4(0.0)));
+  precise vec4 up = f * mix(vec4(1.0 - kSlabWiden), vec4(1.0 + kSlabWiden), greaterThanEqual(f, vec4(0.0)));
+  near = down;
+  far = up;
+}
+
 // Box of the triangle padded by kPadRelative of its largest extent (exactly as the host build).
 void trianglePaddedBox(vec3 p0, vec3 p1, vec3 p2, out vec3 lo, out vec3 hi) {
   vec3 bl = min(min(p0, p1), p2);

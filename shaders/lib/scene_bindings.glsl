@@ -26,6 +26,7 @@ VKTG_CHUNKS(GpuBvhNode, bvhNodes, kBindingBvhNodes)
 // The same triangles and nodes as 16-byte texels (kSpecSceneTexels; shared.h says why).
 layout(set = 0, binding = kBindingTriangleTexels) uniform usamplerBuffer triangleTexels;
 layout(set = 0, binding = kBindingBvhNodeTexels) uniform usamplerBuffer bvhNodeTexels;
+layout(set = 0, binding = kBindingWideBvhTexels) uniform usamplerBuffer wideBvhTexels;
 
 vec4 texelVec4(usamplerBuffer texels, int i) { return uintBitsToFloat(texelFetch(texels, i)); }
 

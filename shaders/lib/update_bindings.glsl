@@ -1,6 +1,6 @@
 // Descriptor declarations of the scene-update layout (include/vktg/gpu/shared.h, kUpdateBinding*):
 // the scene part of set 0 (lib/scene_bindings.glsl) plus what moves it: base positions, per-vertex
-// op lists, the parameter ops and θ, the BVH refit order and the edge list.
+// op lists, the parameter ops and θ, the BVH refit order, the edge list and the 4-wide tree.
 #ifndef VKTG_UPDATE_BINDINGS_GLSL
 #define VKTG_UPDATE_BINDINGS_GLSL
 #include "lib/scene_bindings.glsl"
@@ -13,6 +13,7 @@ layout(std430, set = 0, binding = kUpdateBindingTheta) readonly buffer ThetaBloc
 layout(std430, set = 0, binding = kUpdateBindingRefitOrder) readonly buffer RefitOrderBlock { uint refitOrder[]; };
 layout(std430, set = 0, binding = kUpdateBindingEdges) buffer EdgesBlock { GpuEdge edges[]; };
 layout(std430, set = 0, binding = kUpdateBindingEdgeFaces) readonly buffer EdgeFacesBlock { uvec4 edgeFaces[]; };
+layout(std430, set = 0, binding = kUpdateBindingWideBvhNodes) buffer WideBvhNodesBlock { GpuWideBvhNode wideBvhNodes[]; };
 
 void storeTriangle(uint i, GpuTriangle t) {
   if (kSpecSingleChunkValue != 0u) {

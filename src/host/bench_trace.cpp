@@ -95,6 +95,7 @@ class GpuTracer {
     SpecValues spec{};
     spec[gpu::kSpecSingleChunk] = m_scene.singleChunk() ? 1u : 0u;
     spec[gpu::kSpecSceneTexels] = m_scene.texels() ? 1u : 0u;
+    spec[gpu::kSpecWideBvh] = m_scene.wideBvh() ? 1u : 0u;
     VkPipeline pipeline = m_pipelines.get("bench_trace", spec);
     CommandBuffer cmd(m_context, "bench trace");
     cmd.begin();
@@ -112,6 +113,8 @@ class GpuTracer {
     m_context.submitAndWait(cmd.get());
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
+
+  bool wideBvh() const { return m_scene.wideBvh(); }
 
   std::vector<gpu::HitRecord> hits() const {
     std::vector<gpu::HitRecord> out(m_count);
@@ -197,6 +200,7 @@ BenchTraceReport benchTrace(VulkanContext& context, const BenchTraceOptions& opt
         row.triangles = prepared.triangles.size();
         row.rays = kind;
         row.query = anyHit ? "any" : "closest";
+        row.tree = tracer.wideBvh() ? "4-wide" : "binary";
         const double once = tracer.trace(anyHit, 1);  // warm-up: builds the pipeline
         const double perPass = tracer.trace(anyHit, 1);
         const uint32_t repeats = uint32_t(std::clamp(budget / std::max(std::min(once, perPass), 1e-6), 1.0, 10000.0));
@@ -216,8 +220,8 @@ BenchTraceReport benchTrace(VulkanContext& context, const BenchTraceOptions& opt
           }
         }
         char line[256];
-        std::snprintf(line, sizeof line, "  %-10s %-7s %.3g rays/s, Embree %.3g (hit %.1f%%, %u of %u differ from the host)",
-                      kind, row.query.c_str(), row.raysPerSecond, row.embreeRaysPerSecond, 100.0 * row.hitFraction,
+        std::snprintf(line, sizeof line, "  %-10s %-7s %.3g rays/s (%s BVH), Embree %.3g (hit %.1f%%, %u of %u differ from the host)",
+                      kind, row.query.c_str(), row.raysPerSecond, row.tree.c_str(), row.embreeRaysPerSecond, 100.0 * row.hitFraction,
                       row.disagreements, row.checked);
         options.say(line);
         report.rows.push_back(row);
@@ -229,10 +233,10 @@ BenchTraceReport benchTrace(VulkanContext& context, const BenchTraceOptions& opt
 
 void writeBenchTraceReport(const BenchTraceReport& report, const BenchTraceOptions& options, const std::string& command) {
   std::ostringstream csv;
-  csv << "scene,triangles,rays,query,rays_per_second,embree_rays_per_second,hit_fraction,checked,disagreements,"
+  csv << "scene,triangles,rays,query,tree,rays_per_second,embree_rays_per_second,hit_fraction,checked,disagreements,"
          "embree_disagreements\n";
   for (const BenchTraceRow& r : report.rows)
-    csv << "\"" << r.scene << "\"," << r.triangles << "," << r.rays << "," << r.query << "," << r.raysPerSecond << ","
+    csv << "\"" << r.scene << "\"," << r.triangles << "," << r.rays << "," << r.query << "," << r.tree << "," << r.raysPerSecond << ","
         << r.embreeRaysPerSecond << "," << r.hitFraction << "," << r.checked << "," << r.disagreements << ","
         << r.embreeDisagreements << "\n";
   std::filesystem::create_directories(options.outDir);
@@ -244,16 +248,16 @@ void writeBenchTraceReport(const BenchTraceReport& report, const BenchTraceOptio
                                : "Embree " + report.embree + " on " + std::to_string(std::thread::hardware_concurrency()) +
                                      " host threads, the same rays")
      << "  \nMedians of " << options.runs << " runs, each tracing its ray set until the time budget.\n\n"
-     << "| scene | triangles | rays | query | vktg Mrays/s | Embree Mrays/s | vktg / Embree | hits |\n"
-     << "|---|---|---|---|---|---|---|---|\n";
+     << "| scene | triangles | rays | query | BVH | vktg Mrays/s | Embree Mrays/s | vktg / Embree | hits |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n";
   char cell[320], embree[64];
   for (const BenchTraceRow& r : report.rows) {
     if (r.embreeRaysPerSecond > 0)
       std::snprintf(embree, sizeof embree, "%.3g | %.3fx", r.embreeRaysPerSecond * 1e-6, r.raysPerSecond / r.embreeRaysPerSecond);
     else
       std::snprintf(embree, sizeof embree, "- | -");
-    std::snprintf(cell, sizeof cell, "| %s | %llu | %s | %s | %.3g | %s | %.1f%% |\n", r.scene.c_str(),
-                  (unsigned long long)r.triangles, r.rays.c_str(), r.query.c_str(), r.raysPerSecond * 1e-6, embree,
+    std::snprintf(cell, sizeof cell, "| %s | %llu | %s | %s | %s | %.3g | %s | %.1f%% |\n", r.scene.c_str(),
+                  (unsigned long long)r.triangles, r.rays.c_str(), r.query.c_str(), r.tree.c_str(), r.raysPerSecond * 1e-6, embree,
                   100.0 * r.hitFraction);
     md << cell;
   }

@@ -26,6 +26,7 @@ struct BenchTraceRow {
   uint64_t triangles = 0;
   std::string rays;                // primary, incoherent
   std::string query;               // closest, any
+  std::string tree;                // the BVH traversed: "4-wide" or "binary" (GpuScene::wideBvh)
   double raysPerSecond = 0;        // vktg, median over runs
   double embreeRaysPerSecond = 0;  // 0 without Embree
   double hitFraction = 0;          // rays that hit (closest) / are occluded (any)

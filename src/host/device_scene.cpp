@@ -204,6 +204,7 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
   table.set(gpu::kUpdateBindingParameterOps, u.parameterOps);
   table.set(gpu::kUpdateBindingTheta, u.theta);
   table.set(gpu::kUpdateBindingRefitOrder, u.refitOrder);
+  if (m_gpu->wideBvh()) table.set(gpu::kUpdateBindingWideBvhNodes, m_gpu->wideBvhNodes);
   if (m_edgesBuilt) {
     table.set(gpu::kUpdateBindingEdges, m_edgeBuffer);
     table.set(gpu::kUpdateBindingEdgeFaces, m_edgeFaces);
@@ -215,6 +216,7 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
   // The first update creates the passes' pipelines together, in parallel.
   std::vector<std::pair<std::string, SpecValues>> passes;
   if (moveGeometry) passes = {{"move_vertices", spec}, {"update_triangles", spec}, {"refit_bvh", spec}};
+  if (moveGeometry && m_gpu->wideBvh()) passes.push_back({"refit_wide_bvh", spec});
   if (m_edgesBuilt) passes.push_back({"update_edges", spec});
   u.pipelines.prepare(passes);
   CommandBuffer cmdBuffer(m_context, "scene update");
@@ -238,6 +240,10 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
     for (size_t l = 0; l + 1 < levels.levelStart.size(); ++l) {
       uint32_t first = levels.levelStart[l], count = levels.levelStart[l + 1] - first;
       dispatch("refit_bvh", groupsFor(count, m_context, "BVH nodes"), glm::uvec4(first, 0, 0, count));
+    }
+    if (m_gpu->wideBvh()) {
+      const uint32_t wide = uint32_t(m_gpu->wideBvhNodes.size() / sizeof(gpu::GpuWideBvhNode));
+      dispatch("refit_wide_bvh", groupsFor(wide, m_context, "wide BVH nodes"), glm::uvec4(0, 0, 0, wide));
     }
   }
   if (m_edgesBuilt) dispatch("update_edges", groupsFor(m_edgeCount, m_context, "edges"), glm::uvec4(0));

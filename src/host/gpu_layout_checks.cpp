@@ -6,6 +6,7 @@
 namespace vktg::gpu {
 static_assert(sizeof(GpuTriangle) == 48);
 static_assert(sizeof(GpuBvhNode) == 64);
+static_assert(sizeof(GpuWideBvhNode) == 128);
 static_assert(sizeof(GpuShape) == 16);
 static_assert(sizeof(GpuParameterOp) == 32);
 static_assert(sizeof(GpuMaterial) == 16);

@@ -90,6 +90,16 @@ bool useSceneTexels(const VulkanContext& context, const GpuScene& scene) {
   throw Error("VKTG_SCENE_ACCESS: '" + std::string(access) + "' is neither 'storage' nor 'texel'");
 }
 
+// Whether the traversal may run over the 4-wide BVH: by default yes, wherever the scene is read
+// through texel views (CPU devices, docs/benchmarks.md).
+bool wantWideBvh() {
+  const char* width = std::getenv("VKTG_BVH_WIDTH");
+  if (!width || !*width) return true;
+  if (std::string(width) == "4") return true;
+  if (std::string(width) == "2") return false;
+  throw Error("VKTG_BVH_WIDTH: '" + std::string(width) + "' is neither 2 nor 4");
+}
+
 }  // namespace
 
 ChunkedBuffer uploadChunked(const VulkanContext& context, const void* data, size_t elementSize, size_t count,
@@ -117,6 +127,19 @@ GpuScene::GpuScene(const VulkanContext& context, const PreparedScene& prepared)
   if (useSceneTexels(context, *this)) {
     triangleTexels = texelView(context, triangles.chunks[0], "scene.triangleTexels");
     bvhNodeTexels = texelView(context, bvhNodes.chunks[0], "scene.bvhNodeTexels");
+  }
+  // The wide nodes are read through a texel view only: without the scene's views it is not made.
+  if (texels() && wantWideBvh()) {
+    const std::vector<gpu::GpuWideBvhNode> wide = collapseBvh(prepared.bvh);
+    if (!wide.empty()) {
+      wideBvhNodes = uploadArray(context, wide, "scene.wideBvhNodes");
+      if (fitsTexelView(context, wideBvhNodes)) {
+        wideBvhTexels = texelView(context, wideBvhNodes, "scene.wideBvhTexels");
+        bytes += wideBvhNodes.size();
+      } else {
+        wideBvhNodes = Buffer();
+      }
+    }
   }
   for (const ChunkedBuffer* chunked : {&triangles, &bvhNodes})
     for (const Buffer& b : chunked->chunks) bytes += b.size();

@@ -46,9 +46,16 @@ struct GpuScene {
   // VKTG_SCENE_ACCESS=storage|texel overrides the device's choice (tests, benchmarks); renders
   // read path states and hits through texel views where the scene has them.
   BufferView triangleTexels, bvhNodeTexels;
+  // The BVH collapsed to 4 children per node (collapseBvh), which the closest- and any-hit
+  // traversals use where it is made (kSpecWideBvh): with the texel views, for a tree the layout
+  // holds (refit_wide_bvh follows the binary tree's refit). VKTG_BVH_WIDTH=2|4 overrides the
+  // choice (4 where it can be made).
+  Buffer wideBvhNodes;
+  BufferView wideBvhTexels;
   size_t bytes = 0;  // device memory held
 
   bool texels() const { return bool(bvhNodeTexels); }
+  bool wideBvh() const { return bool(wideBvhTexels); }
 
   // Whether the chunked arrays hold one chunk each (kSpecSingleChunk, with the film's answer).
   bool singleChunk() const { return triangles.single() && bvhNodes.single(); }

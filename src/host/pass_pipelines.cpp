@@ -172,6 +172,7 @@ void BindingTable::setScene(const GpuScene& scene) {
   setChunks(gpu::kBindingBvhNodes, scene.bvhNodes);
   setTexels(gpu::kBindingTriangleTexels, scene.triangleTexels);
   setTexels(gpu::kBindingBvhNodeTexels, scene.bvhNodeTexels);
+  setTexels(gpu::kBindingWideBvhTexels, scene.wideBvhTexels);
   set(gpu::kBindingTriangleVerts, scene.triangleVerts);
   set(gpu::kBindingVertices, scene.vertices);
   set(gpu::kBindingShapes, scene.shapes);

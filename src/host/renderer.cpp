@@ -302,6 +302,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   spec[gpu::kSpecSingleChunk] = gpuScene.singleChunk() && film.single() ? 1u : 0u;
   spec[gpu::kSpecSceneTexels] = gpuScene.texels() ? 1u : 0u;
   spec[gpu::kSpecWaveTexels] = waveTexels ? 1u : 0u;
+  spec[gpu::kSpecWideBvh] = gpuScene.wideBvh() ? 1u : 0u;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";
@@ -451,6 +452,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   stats.batchSize = batchSize;
   stats.deviceBytes = gpuScene.bytes + resources.bytes() + filmBytes + edgeBytes;
   stats.sceneTexels = gpuScene.texels();
+  stats.wideBvh = gpuScene.wideBvh();
   stats.waveTexels = waveTexels;
   stats.bufferChunks = uint32_t(
       std::max({gpuScene.triangles.chunks.size(), gpuScene.bvhNodes.chunks.size(), film.chunks.size()}));

@@ -79,6 +79,7 @@ struct RenderStats {
   uint64_t deviceBytes = 0;  // scene + wavefront + film
   uint32_t bufferChunks = 0; // the most chunks a chunked buffer (triangles, BVH nodes, film) took
   bool sceneTexels = false;  // the traversal loaded triangles and BVH nodes through texel buffers
+  bool wideBvh = false;      // the closest- and any-hit traversals ran over the 4-wide BVH
   bool waveTexels = false;   // intersect_closest and shade loaded path states and hits through them
   double seconds = 0;        // wall time of the batches (excludes pipeline creation)
 };

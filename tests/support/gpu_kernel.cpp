@@ -45,6 +45,9 @@ std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vecto
   spec[gpu::kSpecLightMask] = 3;
   spec[gpu::kSpecEllipsoidSelection] = ellipsoidSelection;
   if (scene) {
+    // Scene loads and traversal as the renderer runs them on this device.
+    spec[gpu::kSpecSceneTexels] = gpuScene->texels() ? 1u : 0u;
+    spec[gpu::kSpecWideBvh] = gpuScene->wideBvh() ? 1u : 0u;
     spec[gpu::kSpecGateType] = uint32_t(scene->gate.type);
     spec[gpu::kSpecCameraType] = uint32_t(scene->camera.type);
   }

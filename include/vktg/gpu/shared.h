@@ -129,7 +129,8 @@ VKTG_CONST(uint, kBindingTriangleTexels, 32);
 VKTG_CONST(uint, kBindingBvhNodeTexels, 33);
 VKTG_CONST(uint, kBindingPathTexels, 34);  // PathState[batch], read by intersect_closest and shade
 VKTG_CONST(uint, kBindingHitTexels, 35);   // HitRecord[batch], read by shade
-VKTG_CONST(uint, kTexelBindingCount, 4);
+VKTG_CONST(uint, kBindingWideBvhTexels, 36);  // GpuWideBvhNode[] (kSpecWideBvh)
+VKTG_CONST(uint, kTexelBindingCount, 5);
 
 // Scene-update passes (move_vertices, update_triangles, refit_bvh, update_edges) use their own layout:
 // bindings 0-13 as above (frame and scene), then these.
@@ -141,7 +142,8 @@ VKTG_CONST(uint, kUpdateBindingTheta, 18);          // float[θ index]
 VKTG_CONST(uint, kUpdateBindingRefitOrder, 19);     // uint[]: internal BVH nodes, deepest level first
 VKTG_CONST(uint, kUpdateBindingEdges, 20);          // GpuEdge[]
 VKTG_CONST(uint, kUpdateBindingEdgeFaces, 21);      // uvec4[edge]: x, y the vertex opposite the edge in face 0, 1 (~0: none)
-VKTG_CONST(uint, kUpdateBindingCount, 22);
+VKTG_CONST(uint, kUpdateBindingWideBvhNodes, 22);  // GpuWideBvhNode[] (refit_wide_bvh)
+VKTG_CONST(uint, kUpdateBindingCount, 23);
 
 // Shadow-ray slots of a path per bounce: per vertex a standard connection, an (antithetic) pair of
 // ellipsoidal ones and the path-length-boundary ones (one per jump; the adjoint pass that runs the
@@ -174,7 +176,8 @@ VKTG_CONST(uint, kSpecCameraConnections, 10);   // 1: the shadow queue holds con
 VKTG_CONST(uint, kSpecSingleChunk, 11);  // 1: triangles, BVH nodes and film each fit their first chunk
 VKTG_CONST(uint, kSpecSceneTexels, 12);  // 1: triangle and BVH node loads through the texel bindings
 VKTG_CONST(uint, kSpecWaveTexels, 13);   // 1: path-state and hit loads through the texel bindings
-VKTG_CONST(uint, kSpecCount, 14);
+VKTG_CONST(uint, kSpecWideBvh, 14);      // 1: closest- and any-hit traversal over the 4-wide BVH
+VKTG_CONST(uint, kSpecCount, 15);
 
 // How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
 VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
@@ -228,6 +231,27 @@ struct GpuBvhNode {
   vec4 rightMinCount;       // xyz: right child box min, w: leaf triangle count (uint bits)
   vec4 rightMaxFirst;       // xyz: right child box max, w: first triangle of the leaf / right subtree (uint bits)
 };
+
+// A node of the 4-wide BVH (the binary tree collapsed, kSpecWideBvh), children in structure-of-
+// arrays order so one lane's four slab tests are vec4 operations. child[k]: an inner node's index,
+// or kWideBvhLeaf | first << kWideBvhFirstShift | count for a leaf of `count` triangles from
+// `first` (leaf order), or kWideBvhEmpty for an unused slot, whose box is empty (lo > hi).
+// source[k]: where the binary tree keeps that child's box: 2 * node + 0 (left) or 1 (right).
+struct GpuWideBvhNode {
+  vec4 loX;
+  vec4 loY;
+  vec4 loZ;
+  vec4 hiX;
+  vec4 hiY;
+  vec4 hiZ;
+  uvec4 child;
+  uvec4 source;
+};
+VKTG_CONST(uint, kWideBvhLeaf, 0x80000000u);
+VKTG_CONST(uint, kWideBvhFirstShift, 6);
+VKTG_CONST(uint, kWideBvhMaxLeafCount, 63);     // also the mask of the count
+VKTG_CONST(uint, kWideBvhMaxFirst, 0x01ffffffu);
+VKTG_CONST(uint, kWideBvhEmpty, 0xffffffffu);
 
 VKTG_CONST(uint, kShapeMoves, 1);  // GpuShape.flags: some optimised parameter moves its vertices
 
