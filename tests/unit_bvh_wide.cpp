@@ -129,6 +129,7 @@ TEST(BvhCollapse, LeavesTheLayoutCannotHoldGiveNoTree) {
     EXPECT_EQ(collapseBvh(bvh).empty(), count > gpu::kWideBvhMaxLeafCount) << count << " coincident triangles";
   }
   EXPECT_TRUE(collapseBvh(Bvh{}).empty());
+  EXPECT_TRUE(collapseBvh(buildBvh(Soup{})).empty()) << "an empty scene keeps the binary traversal";
 }
 
 }  // namespace

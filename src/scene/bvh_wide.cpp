@@ -28,9 +28,11 @@ class Collapser {
  public:
   explicit Collapser(const Bvh& bvh) : m_bvh(bvh) {}
 
-  // Wide node for the binary subtree under `slots` (1 or 2 of them); its index, and in `need` the
-  // stack entries a near-first traversal of it may hold. False if the layout cannot hold it.
-  bool collapse(std::vector<Slot> slots, uint32_t& index, uint32_t& need) {
+  // Wide node for the binary subtree under `slots` (1 or 2 of them) at wide depth `depth`; its
+  // index, and in `need` the stack entries a near-first traversal of it may hold. False if the
+  // layout cannot hold it (or the binary tree is deeper than any buildBvh makes).
+  bool collapse(std::vector<Slot> slots, uint32_t depth, uint32_t& index, uint32_t& need) {
+    if (depth > kBvhStackSize) return false;
     while (slots.size() < 4) {
       int widest = -1;
       for (size_t i = 0; i < slots.size(); ++i)
@@ -62,7 +64,7 @@ class Collapser {
           child = gpu::kWideBvhLeaf | first << gpu::kWideBvhFirstShift | count;
         } else {
           uint32_t childNeed = 0;
-          if (!collapse({s}, child, childNeed)) return false;
+          if (!collapse({s}, depth + 1, child, childNeed)) return false;
           deepest = std::max(deepest, childNeed);
         }
       }
@@ -87,7 +89,8 @@ class Collapser {
 }  // namespace
 
 std::vector<gpu::GpuWideBvhNode> collapseBvh(const Bvh& bvh) {
-  if (bvh.nodes.empty()) return {};
+  // No triangles: the binary root's children are itself, under empty boxes (buildBvh).
+  if (bvh.nodes.empty() || bvh.order.empty()) return {};
   const gpu::GpuBvhNode& root = bvh.nodes[0];
   std::vector<Slot> top;
   if (isLeaf(root)) {
@@ -99,7 +102,7 @@ std::vector<gpu::GpuWideBvhNode> collapseBvh(const Bvh& bvh) {
   }
   Collapser collapser(bvh);
   uint32_t index = 0, need = 0;
-  if (!collapser.collapse(std::move(top), index, need) || need > kBvhStackSize) return {};
+  if (!collapser.collapse(std::move(top), 0, index, need) || need > kBvhStackSize) return {};
   return collapser.take();
 }
 
