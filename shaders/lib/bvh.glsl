@@ -17,6 +17,39 @@
 
 const uint kBvhStackSize = 64u;
 
+// The leaf's triangles first .. first + count - 1 against the closest hit so far (found, tBest,
+// uvHit, triHit). Each is tested against the full window: a hit at exactly tBest with a smaller
+// index still wins. Returns true at the first accepted hit when anyHit (the traversal stops).
+bool bvhTestLeaf(uint first, uint count, vec3 origin, vec3 dir, vec3 invDir, uvec3 axes, float tMin, float tMax,
+                 bool anyHit, inout bool found, inout float tBest, inout vec2 uvHit, inout uint triHit) {
+  for (uint i = first; i < first + count; ++i) {
+    GpuTriangle tri = loadTriangle(i);
+    float t;
+    vec2 uv;
+    if (!intersectTrianglePrepared(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, invDir, axes, tMin, tMax, t, uv))
+      continue;
+    if (!found || t < tBest || (t == tBest && i < triHit)) {
+      found = true;
+      tBest = t;
+      uvHit = uv;
+      triHit = i;
+      if (anyHit) return true;
+    }
+  }
+  return false;
+}
+
+// The end of a traversal: the closest hit's distance refined against its triangle's plane, -1 for
+// a miss. Returns `found`.
+bool bvhFinishHit(bool found, bool anyHit, vec3 origin, vec3 dir, float tBest, uint triHit, out float tHit) {
+  tHit = found ? tBest : -1.0;
+  if (found && !anyHit) {
+    GpuTriangle tri = loadTriangle(triHit);
+    tHit = refinedHitDistance(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, tHit);
+  }
+  return found;
+}
+
 // The 4-wide tree (kSpecWideBvh, GpuWideBvhNode): a node's hit children are ordered by entry
 // distance, the nearest visited next and the others pushed, leaves as stack entries of their own
 // (their child codes). The same boxes, slab arithmetic and tie rule as the binary traversal, so
@@ -43,27 +76,15 @@ bool traceWideBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, ou
   uint entry = 0u;  // the root: inner node 0
   bool found = false;
   float tBest = tMax;
-  tHit = -1.0;
   uvHit = vec2(0.0);
   triHit = 0u;
   while (true) {
     if ((entry & kWideBvhLeaf) != 0u) {
       uint first = (entry & ~kWideBvhLeaf) >> kWideBvhFirstShift;
-      uint count = entry & kWideBvhMaxLeafCount;
-      for (uint i = first; i < first + count; ++i) {
-        GpuTriangle tri = loadTriangle(i);
-        float t;
-        vec2 uv;
-        if (!intersectTrianglePrepared(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, invDir, axes, tMin, tMax, t, uv))
-          continue;
-        if (!found || t < tBest || (t == tBest && i < triHit)) {
-          found = true;
-          tBest = t;
-          tHit = t;
-          uvHit = uv;
-          triHit = i;
-          if (anyHit) return true;
-        }
+      if (bvhTestLeaf(first, entry & kWideBvhMaxLeafCount, origin, dir, invDir, axes, tMin, tMax, anyHit, found, tBest,
+                      uvHit, triHit)) {
+        tHit = tBest;
+        return true;
       }
     } else {
       int base = 8 * int(entry);
@@ -95,11 +116,7 @@ bool traceWideBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, ou
     if (size == 0u) break;
     entry = stack[--size];
   }
-  if (found && !anyHit) {
-    GpuTriangle tri = loadTriangle(triHit);
-    tHit = refinedHitDistance(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, tHit);
-  }
-  return found;
+  return bvhFinishHit(found, anyHit, origin, dir, tBest, triHit, tHit);
 }
 
 // anyHit: stop at the first accepted hit. Returns whether anything was hit in (tMin, tMax) and
@@ -114,29 +131,16 @@ bool traceBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out fl
   uint node = 0u;
   bool found = false;
   float tBest = tMax;
-  tHit = -1.0;
   uvHit = vec2(0.0);
   triHit = 0u;
   while (true) {
     GpuBvhNode n = loadBvhNode(node);
     uint count = floatBitsToUint(n.rightMinCount.w);
     if (count > 0u) {
-      uint first = floatBitsToUint(n.rightMaxFirst.w);
-      for (uint i = first; i < first + count; ++i) {
-        GpuTriangle tri = loadTriangle(i);
-        float t;
-        vec2 uv;
-        // Tested against the full window: a hit at exactly tBest with a smaller index still wins.
-        if (!intersectTrianglePrepared(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, invDir, axes, tMin, tMax, t, uv))
-          continue;
-        if (!found || t < tBest || (t == tBest && i < triHit)) {
-          found = true;
-          tBest = t;
-          tHit = t;
-          uvHit = uv;
-          triHit = i;
-          if (anyHit) return true;
-        }
+      if (bvhTestLeaf(floatBitsToUint(n.rightMaxFirst.w), count, origin, dir, invDir, axes, tMin, tMax, anyHit, found,
+                      tBest, uvHit, triHit)) {
+        tHit = tBest;
+        return true;
       }
     } else {
       vec2 l = slabInterval(n.leftMinLeftIndex.xyz, n.leftMaxRightIndex.xyz, origin, invDir);
@@ -160,11 +164,7 @@ bool traceBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out fl
     if (size == 0u) break;
     node = stack[--size];
   }
-  if (found && !anyHit) {
-    GpuTriangle tri = loadTriangle(triHit);
-    tHit = refinedHitDistance(tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, origin, dir, tHit);
-  }
-  return found;
+  return bvhFinishHit(found, anyHit, origin, dir, tBest, triHit, tHit);
 }
 
 // Closest hit in (tMin, tMax); tMin must be >= 0 (a miss is reported as t = -1).

@@ -123,7 +123,8 @@ VKTG_CONST(uint, kBindingCount, 32);  // storage-buffer bindings 0..31
 // storage bindings also hold. A CPU device fetches a lane's texel as one 16-byte load, where it
 // loads a storage buffer's components one lane and one bounds check at a time. The scene's
 // triangles and BVH nodes are read through them where kSpecSceneTexels is set, the path states and
-// hits where kSpecWaveTexels is (shadow rays through them measured no faster).
+// hits where kSpecWaveTexels is (shadow rays through them measured no faster), the 4-wide tree's
+// nodes where kSpecWideBvh is (only through this view).
 VKTG_CONST(uint, kFirstTexelBinding, 32);
 VKTG_CONST(uint, kBindingTriangleTexels, 32);
 VKTG_CONST(uint, kBindingBvhNodeTexels, 33);
