@@ -1,0 +1,43 @@
+// `vktg bench optimize` at toy sizes: a row per heightfield with every time measured, and with
+// --profile the device time of every pass of the render and of each gradient variant, named by
+// term (what docs/benchmarks.md's breakdown of a loss gradient is read from). Speed is the
+// benchmark's output, never asserted here.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/cli_runner.h"
+
+namespace vktg::test {
+namespace {
+
+TEST(CliBenchOptimize, EveryRowTimedAndEveryPassProfiled) {
+  TempDir dir;
+  CliResult r = runVktg({"bench", "optimize", "--sizes", "3,4", "--runs", "1", "--scale", "0.125", "--profile", "--out",
+                         (dir / "bench").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.describe();
+  std::istringstream csv(readFileBytes(dir / "bench" / "bench.csv"));
+  std::string line;
+  std::getline(csv, line);
+  ASSERT_EQ(line.rfind("size,parameters,triangles,", 0), 0u) << line;
+  std::vector<std::string> rows;
+  while (std::getline(csv, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 2u);
+  for (const std::string& row : rows) {
+    std::vector<double> cells;
+    std::istringstream in(row);
+    for (std::string cell; std::getline(in, cell, ',');) cells.push_back(std::stod(cell));
+    ASSERT_EQ(cells.size(), 15u) << row;
+    for (size_t c = 6; c <= 12; ++c) EXPECT_TRUE(std::isfinite(cells[c]) && cells[c] > 0) << row << ": column " << c;
+  }
+  const std::string log = r.out + r.err;
+  for (const char* pass : {"render: ", "interior/shade_adj", "edges/sample_edges", "boundary/shade_adj",
+                           "boundary-from-camera/connect_camera_boundary_adj", "interior+boundary/shade_adj"})
+    EXPECT_NE(log.find(pass), std::string::npos) << "no " << pass << " in the profile\n" << log;
+}
+
+}  // namespace
+}  // namespace vktg::test
