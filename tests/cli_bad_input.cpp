@@ -53,11 +53,12 @@ class CliBadInput : public ::testing::Test {
   }
   std::string out() const { return (m_dir / "out.exr").string(); }
 
-  // Runs `vktg ARGS` in the temporary directory and checks the failure contract; every string
-  // in `keywords` must appear in the one error line.
-  void expectCleanFailure(const std::vector<std::string>& args, const std::vector<std::string>& keywords) {
+  // Runs `vktg ARGS` (with `env` added to the environment) in the temporary directory and checks
+  // the failure contract; every string in `keywords` must appear in the one error line.
+  void expectCleanFailure(const std::vector<std::string>& args, const std::vector<std::string>& keywords,
+                          const std::map<std::string, std::string>& env = {}) {
     const auto before = directorySnapshot(m_dir);
-    CliResult r = runVktg(args, {.cwd = m_dir.path(), .timeoutSeconds = kTimeoutSeconds,
+    CliResult r = runVktg(args, {.env = env, .cwd = m_dir.path(), .timeoutSeconds = kTimeoutSeconds,
                                  .enforcePermissions = m_enforcePermissions});
     ASSERT_FALSE(r.timedOut) << "hang\n" << r.describe();
     ASSERT_TRUE(r.exited) << "crash\n" << r.describe();
@@ -325,6 +326,16 @@ TEST_F(CliBadInput, OutIsALinkToTheSceneFile) {
 
 TEST_F(CliBadInput, OutWithoutExrExtension) {
   expectCleanFailure({"render", "--out", (m_dir / "image.png").string()}, {"--out", "image.png", ".exr"});
+}
+
+// The variables that force a device's choices (docs/robustness.md) name themselves when misspelt.
+TEST_F(CliBadInput, UnknownBvhWidth) {
+  expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_BVH_WIDTH", "'3'"}, {{"VKTG_BVH_WIDTH", "3"}});
+}
+
+TEST_F(CliBadInput, UnknownSceneAccess) {
+  expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_SCENE_ACCESS", "'stream'"},
+                     {{"VKTG_SCENE_ACCESS", "stream"}});
 }
 
 TEST_F(CliBadInput, OutIsADirectory) {
