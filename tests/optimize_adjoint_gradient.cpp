@@ -67,6 +67,9 @@ void expectAdjointMatchesLanes(const Scene& scene, const std::vector<std::string
   AdjointView view{RenderSetup::of(scene), {}, &adjoint};
   LossGradient sparse = lossGradient(test::testRenderer(), deviceScene, {view}, options, state);
   EXPECT_EQ(sparse.stats.nonFinite, 0u);
+  // The stats say how the device traversed the moving scene (its refit 4-wide tree on CPU devices).
+  EXPECT_EQ(sparse.stats.wideBvh, deviceScene.gpu().wideBvh());
+  EXPECT_EQ(dense.stats.sceneTexels, sparse.stats.sceneTexels);
   // The same plan, but for how the loss gradient groups its passes.
   std::vector<std::string> reasons = sparse.plan.reasons;
   std::erase_if(reasons, [](const std::string& r) { return r.starts_with(kSharedPathsReason); });

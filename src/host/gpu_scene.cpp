@@ -4,6 +4,8 @@
 #include <bit>
 #include <cerrno>
 #include <cstdlib>
+#include <optional>
+#include <string>
 
 #include <glm/glm.hpp>
 
@@ -59,9 +61,11 @@ ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, 
   return out;
 }
 
-bool fitsTexelView(const VulkanContext& context, const Buffer& buffer) {
-  return buffer.size() / sizeof(glm::uvec4) <= context.properties().limits.maxTexelBufferElements;
+bool fitsTexelView(const VulkanContext& context, uint64_t bytes) {
+  return bytes / sizeof(glm::uvec4) <= context.properties().limits.maxTexelBufferElements;
 }
+
+bool fitsTexelView(const VulkanContext& context, const Buffer& buffer) { return fitsTexelView(context, buffer.size()); }
 
 BufferView texelView(const VulkanContext& context, const Buffer& buffer, const std::string& name) {
   VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
@@ -76,6 +80,16 @@ BufferView texelView(const VulkanContext& context, const Buffer& buffer, const s
 
 namespace {
 
+// A variable that forces one of two choices (tests, benchmarks): true for `first`, false for
+// `second`, nothing when unset; anything else is an error naming it.
+std::optional<bool> forcedChoice(const char* variable, const char* first, const char* second) {
+  const char* value = std::getenv(variable);
+  if (!value || !*value) return std::nullopt;
+  if (std::string(value) == first) return true;
+  if (std::string(value) == second) return false;
+  throw Error(std::string(variable) + ": '" + value + "' is neither '" + first + "' nor '" + second + "'");
+}
+
 // Whether the traversal loads the scene through texel buffers: by default on CPU devices (lavapipe
 // traces 1.2-1.5x the rays per second with them, docs/benchmarks.md), never where a buffer takes
 // several chunks or more texels than a view may hold.
@@ -83,22 +97,13 @@ bool useSceneTexels(const VulkanContext& context, const GpuScene& scene) {
   if (!scene.triangles.single() || !scene.bvhNodes.single() || !fitsTexelView(context, scene.triangles.chunks[0]) ||
       !fitsTexelView(context, scene.bvhNodes.chunks[0]))
     return false;
-  const char* access = std::getenv("VKTG_SCENE_ACCESS");
-  if (!access || !*access) return context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-  if (std::string(access) == "texel") return true;
-  if (std::string(access) == "storage") return false;
-  throw Error("VKTG_SCENE_ACCESS: '" + std::string(access) + "' is neither 'storage' nor 'texel'");
+  return forcedChoice("VKTG_SCENE_ACCESS", "texel", "storage")
+      .value_or(context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU);
 }
 
 // Whether the traversal may run over the 4-wide BVH: by default yes, wherever the scene is read
 // through texel views (CPU devices, docs/benchmarks.md).
-bool wantWideBvh() {
-  const char* width = std::getenv("VKTG_BVH_WIDTH");
-  if (!width || !*width) return true;
-  if (std::string(width) == "4") return true;
-  if (std::string(width) == "2") return false;
-  throw Error("VKTG_BVH_WIDTH: '" + std::string(width) + "' is neither 2 nor 4");
-}
+bool wantWideBvh() { return forcedChoice("VKTG_BVH_WIDTH", "4", "2").value_or(true); }
 
 }  // namespace
 
@@ -131,14 +136,10 @@ GpuScene::GpuScene(const VulkanContext& context, const PreparedScene& prepared)
   // The wide nodes are read through a texel view only: without the scene's views it is not made.
   if (texels() && wantWideBvh()) {
     const std::vector<gpu::GpuWideBvhNode> wide = collapseBvh(prepared.bvh);
-    if (!wide.empty()) {
+    if (!wide.empty() && fitsTexelView(context, wide.size() * sizeof(gpu::GpuWideBvhNode))) {
       wideBvhNodes = uploadArray(context, wide, "scene.wideBvhNodes");
-      if (fitsTexelView(context, wideBvhNodes)) {
-        wideBvhTexels = texelView(context, wideBvhNodes, "scene.wideBvhTexels");
-        bytes += wideBvhNodes.size();
-      } else {
-        wideBvhNodes = Buffer();
-      }
+      wideBvhTexels = texelView(context, wideBvhNodes, "scene.wideBvhTexels");
+      bytes += wideBvhNodes.size();
     }
   }
   for (const ChunkedBuffer* chunked : {&triangles, &bvhNodes})

@@ -27,6 +27,7 @@ uint64_t maxChunkBytes(const VulkanContext& context);
 // cover it (maxTexelBufferElements).
 BufferView texelView(const VulkanContext& context, const Buffer& buffer, const std::string& name);
 bool fitsTexelView(const VulkanContext& context, const Buffer& buffer);
+bool fitsTexelView(const VulkanContext& context, uint64_t bytes);
 ChunkedBuffer uploadChunked(const VulkanContext& context, const void* data, size_t elementSize, size_t count,
                             const std::string& name);
 ChunkedBuffer allocateChunked(const VulkanContext& context, size_t elementSize, size_t count, const std::string& name);

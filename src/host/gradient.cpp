@@ -27,6 +27,11 @@ void addStats(RenderStats& total, const RenderStats& s) {
   total.batchSize = std::max(total.batchSize, s.batchSize);
   total.deviceBytes = std::max(total.deviceBytes, s.deviceBytes);
   total.seconds += s.seconds;
+  // How the device read the scene and traversed it: the same for every render of one scene.
+  total.bufferChunks = std::max(total.bufferChunks, s.bufferChunks);
+  total.sceneTexels = total.sceneTexels || s.sceneTexels;
+  total.wideBvh = total.wideBvh || s.wideBvh;
+  total.waveTexels = total.waveTexels || s.waveTexels;
 }
 
 }  // namespace
