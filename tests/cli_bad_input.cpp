@@ -333,6 +333,13 @@ TEST_F(CliBadInput, UnknownBvhWidth) {
   expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_BVH_WIDTH", "'3'"}, {{"VKTG_BVH_WIDTH", "3"}});
 }
 
+// On a GPU the scene is read from storage buffers and the wide tree is never built; the variable
+// is still checked (it once went unread there, and the bad value was silently ignored).
+TEST_F(CliBadInput, UnknownBvhWidthWhereTheWideTreeIsNotUsed) {
+  expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_BVH_WIDTH", "'3'"},
+                     {{"VKTG_BVH_WIDTH", "3"}, {"VKTG_SCENE_ACCESS", "storage"}});
+}
+
 TEST_F(CliBadInput, UnknownSceneAccess) {
   expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_SCENE_ACCESS", "'stream'"},
                      {{"VKTG_SCENE_ACCESS", "stream"}});

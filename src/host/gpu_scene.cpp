@@ -93,17 +93,12 @@ std::optional<bool> forcedChoice(const char* variable, const char* first, const 
 // Whether the traversal loads the scene through texel buffers: by default on CPU devices (lavapipe
 // traces 1.2-1.5x the rays per second with them, docs/benchmarks.md), never where a buffer takes
 // several chunks or more texels than a view may hold.
-bool useSceneTexels(const VulkanContext& context, const GpuScene& scene) {
+bool useSceneTexels(const VulkanContext& context, const GpuScene& scene, std::optional<bool> forced) {
   if (!scene.triangles.single() || !scene.bvhNodes.single() || !fitsTexelView(context, scene.triangles.chunks[0]) ||
       !fitsTexelView(context, scene.bvhNodes.chunks[0]))
     return false;
-  return forcedChoice("VKTG_SCENE_ACCESS", "texel", "storage")
-      .value_or(context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU);
+  return forced.value_or(context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU);
 }
-
-// Whether the traversal may run over the 4-wide BVH: by default yes, wherever the scene is read
-// through texel views (CPU devices, docs/benchmarks.md).
-bool wantWideBvh() { return forcedChoice("VKTG_BVH_WIDTH", "4", "2").value_or(true); }
 
 }  // namespace
 
@@ -129,12 +124,18 @@ GpuScene::GpuScene(const VulkanContext& context, const PreparedScene& prepared)
       shapes(uploadArray(context, prepared.shapes, "scene.shapes")),
       materials(uploadArray(context, prepared.materials, "scene.materials")),
       lights(uploadArray(context, prepared.lights, "scene.lights")) {
-  if (useSceneTexels(context, *this)) {
+  // Both variables are read on every device, so a bad value is an error wherever it is set, not
+  // only on the devices whose choice it would change.
+  const std::optional<bool> forcedTexels = forcedChoice("VKTG_SCENE_ACCESS", "texel", "storage");
+  // The 4-wide BVH is wanted by default wherever the scene is read through texel views (CPU
+  // devices, docs/benchmarks.md).
+  const bool wideBvhWanted = forcedChoice("VKTG_BVH_WIDTH", "4", "2").value_or(true);
+  if (useSceneTexels(context, *this, forcedTexels)) {
     triangleTexels = texelView(context, triangles.chunks[0], "scene.triangleTexels");
     bvhNodeTexels = texelView(context, bvhNodes.chunks[0], "scene.bvhNodeTexels");
   }
   // The wide nodes are read through a texel view only: without the scene's views it is not made.
-  if (texels() && wantWideBvh()) {
+  if (texels() && wideBvhWanted) {
     const std::vector<gpu::GpuWideBvhNode> wide = collapseBvh(prepared.bvh);
     if (!wide.empty() && fitsTexelView(context, wide.size() * sizeof(gpu::GpuWideBvhNode))) {
       wideBvhNodes = uploadArray(context, wide, "scene.wideBvhNodes");
