@@ -44,6 +44,31 @@ TEST(NeePilot, LowestRelMseTimesTimeWinsAndPredictionsScaleToTheRender) {
   EXPECT_EQ(*decideFromPilot(runs, 1024).choice, NeeMode::Standard);
 }
 
+// Each estimator's time model is its own line: a larger fixed cost per render (extra passes on a
+// launch-bound GPU) stays fixed instead of turning into a cost per sample.
+TEST(NeePilot, TimeModelKeepsEachEstimatorsFixedCost) {
+  const std::vector<double> spp = {2, 20, 40};
+  const PilotTimeModel flat = fitPilotTimes({0.0072, 0.0072, 0.0072}, spp);
+  const PilotTimeModel dearer = fitPilotTimes({0.012002, 0.01202, 0.01204}, spp);
+  EXPECT_NEAR(flat.fixed, 0.0072, 1e-12);
+  EXPECT_NEAR(flat.perSpp, 0.0, 1e-15);
+  EXPECT_NEAR(dearer.fixed, 0.012, 1e-12);
+  EXPECT_NEAR(dearer.perSpp, 1e-6, 1e-12);
+  // Predicted at 2048 spp: 1.9x the flat estimator's time, not the 24x a shared fixed part gave.
+  EXPECT_LT((dearer.fixed + 2048 * dearer.perSpp) / (flat.fixed + 2048 * flat.perSpp), 2.0);
+  // A compute-bound line is recovered exactly.
+  const PilotTimeModel line = fitPilotTimes({0.01 + 2e-3 * 2, 0.01 + 2e-3 * 20, 0.01 + 2e-3 * 40}, spp);
+  EXPECT_NEAR(line.fixed, 0.01, 1e-12);
+  EXPECT_NEAR(line.perSpp, 2e-3, 1e-12);
+  // Noise never makes either part negative.
+  const PilotTimeModel falling = fitPilotTimes({0.012, 0.011, 0.010}, spp);
+  EXPECT_EQ(falling.perSpp, 0.0);
+  EXPECT_NEAR(falling.fixed, 0.011, 1e-12);
+  const PilotTimeModel steep = fitPilotTimes({0.001, 0.030, 0.062}, spp);
+  EXPECT_EQ(steep.fixed, 0.0);
+  EXPECT_NEAR(steep.perSpp, (2 * 0.001 + 20 * 0.030 + 40 * 0.062) / (4 + 400 + 1600), 1e-12);
+}
+
 TEST(NeePilot, RunShortOfTheOthersLightIsExcludedEvenWithTheLeastVariance) {
   // Standard NEE that rarely reaches a narrow gate: its 8 spp found a tenth of the light and, having
   // seen almost none of its rare large samples, report a tiny variance.

@@ -28,37 +28,33 @@ std::vector<float> boxBlurred(const std::vector<float>& pixels, uint32_t width, 
   return out;
 }
 
-// The time model t = fixed + n x perSpp[k] of the renders of estimators k at sample counts n[r],
-// their batch times (pipeline creation excluded) times[k][r]. The fixed part is launch and
-// per-bounce dispatch cost, the same passes for every estimator, so one is fitted to all of them by
-// least squares: with N1 = sum n_r, N2 = sum n_r^2 and w_r = 1 - n_r N1 / N2,
-// fixed = sum_k sum_r w_r t_kr / (K sum_r w_r^2) and perSpp[k] = (sum_r n_r t_kr - fixed N1) / N2.
-// Both are clamped at 0: a negative slope is timing noise of a launch-bound render.
-struct TimeModel {
-  double fixed = 0;
-  std::vector<double> perSpp;
-};
-
-TimeModel fitTimes(const std::vector<std::vector<double>>& times, const std::vector<double>& n) {
-  double n1 = 0, n2 = 0;
-  for (double v : n) n1 += v, n2 += v * v;
-  double numerator = 0, w2 = 0;
-  for (double v : n) w2 += (1 - v * n1 / n2) * (1 - v * n1 / n2);
-  for (const auto& row : times)
-    for (size_t r = 0; r < n.size(); ++r) numerator += (1 - n[r] * n1 / n2) * row[r];
-  TimeModel model;
-  model.fixed = std::max(0.0, numerator / (double(times.size()) * w2));
-  for (const auto& row : times) {
-    double weighted = 0;
-    for (size_t r = 0; r < n.size(); ++r) weighted += n[r] * row[r];
-    model.perSpp.push_back(std::max(0.0, (weighted - model.fixed * n1) / n2));
-  }
-  return model;
-}
-
 }  // namespace
 
 uint32_t pilotSpp(uint32_t spp) { return spp < kPilotMinRenderSpp ? 0u : spp / kPilotFraction; }
+
+PilotTimeModel fitPilotTimes(const std::vector<double>& seconds, const std::vector<double>& spp) {
+  const double count = double(spp.size());
+  double meanSpp = 0, meanSeconds = 0;
+  for (size_t r = 0; r < spp.size(); ++r) meanSpp += spp[r] / count, meanSeconds += seconds[r] / count;
+  double covariance = 0, spread = 0;
+  for (size_t r = 0; r < spp.size(); ++r) {
+    covariance += (spp[r] - meanSpp) * (seconds[r] - meanSeconds);
+    spread += (spp[r] - meanSpp) * (spp[r] - meanSpp);
+  }
+  PilotTimeModel model;
+  model.perSpp = spread > 0 ? covariance / spread : 0.0;
+  model.fixed = meanSeconds - model.perSpp * meanSpp;
+  if (model.perSpp < 0) {  // timing noise of a launch-bound render: all of it is fixed cost
+    model.perSpp = 0;
+    model.fixed = meanSeconds;
+  } else if (model.fixed < 0) {  // noise the other way: a line through the origin
+    double weighted = 0, squares = 0;
+    for (size_t r = 0; r < spp.size(); ++r) weighted += spp[r] * seconds[r], squares += spp[r] * spp[r];
+    model.fixed = 0;
+    model.perSpp = squares > 0 ? weighted / squares : 0.0;
+  }
+  return model;
+}
 
 PilotDecision decideFromPilot(const std::vector<PilotRun>& runs, uint32_t renderSpp) {
   PilotDecision decision;
@@ -181,9 +177,9 @@ PilotDecision runNeePilot(Renderer& renderer, DeviceScene& scene, const RenderSe
   auto timesOf = [&](uint32_t k) {
     return std::vector<double>{rounds[0][k].stats.seconds, rounds[1][k].stats.seconds, rounds[2][k].stats.seconds};
   };
-  const TimeModel firstModel = fitTimes({timesOf(first)}, counts);
-  const double renderSeconds = firstModel.fixed + setup.settings.spp * firstModel.perSpp[0];
-  const double pilotSeconds = 3 * (setupSeconds + 3 * firstModel.fixed + (2 + 3 * h) * firstModel.perSpp[0]);
+  const PilotTimeModel firstModel = fitPilotTimes(timesOf(first), counts);
+  const double renderSeconds = firstModel.fixed + setup.settings.spp * firstModel.perSpp;
+  const double pilotSeconds = 3 * (setupSeconds + 3 * firstModel.fixed + (2 + 3 * h) * firstModel.perSpp);
   const bool pays = pilotSeconds <= kPilotMaxShare * renderSeconds;
   if (onlyWhereItPays && !pays) {
     PilotDecision stopped;
@@ -198,11 +194,11 @@ PilotDecision runNeePilot(Renderer& renderer, DeviceScene& scene, const RenderSe
   for (uint32_t round = 0; round < 3; ++round)
     for (uint32_t k = 0; k < 3; ++k)
       if (k != first) render(k, round);
-  // The time model of all three (batch times exclude the pipelines the first round created).
-  const TimeModel model = fitTimes({timesOf(0), timesOf(1), timesOf(2)}, counts);
+  // Each estimator's time model (batch times exclude the pipelines the first round created).
   std::vector<PilotRun> runs;
   for (uint32_t k = 0; k < 3; ++k) {
-    PilotRun run{candidates[k], 2 + 3 * h, model.fixed, model.perSpp[k], rounds[0][k].mean, rounds[0][k].variance};
+    const PilotTimeModel model = fitPilotTimes(timesOf(k), counts);
+    PilotRun run{candidates[k], 2 + 3 * h, model.fixed, model.perSpp, rounds[0][k].mean, rounds[0][k].variance};
     // The three renders' mean, weighted by their samples, and the variance of that mean.
     for (size_t l = 0; l < run.mean.layers.size(); ++l)
       for (size_t i = 0; i < run.mean.layers[l].pixels.size(); ++i) {
