@@ -14,6 +14,8 @@
 #include <string>
 #include <unistd.h>
 
+#include "host/memory_preflight.h"
+#include "support/gpu_context.h"
 #include "support/render_test.h"
 #include "vktg/parameters.h"
 
@@ -59,6 +61,20 @@ TEST(RenderMemory, ManyRendersOfOneSceneKeepTheResidentSetFlat) {
   // Measured: 0-1 MiB with the frame block in a storage buffer; 63 MiB when it was a uniform
   // buffer. 24 MiB leaves room for allocator noise and stays far below one variant per render.
   EXPECT_LT(growthMiB, 24.0);
+}
+
+// Without --mem a render sizes its batches by the device: 512 MiB on a CPU device, a quarter of a
+// GPU's memory (512 MiB to 4 GiB) there, where fewer, larger batches pay fewer per-batch dispatches.
+TEST(RenderMemory, DefaultBudgetFollowsTheDevice) {
+  const VulkanContext& context = testContext();
+  const uint64_t budget = defaultMemoryBudget(context), device = context.report().deviceLocalBytes;
+  if (context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+    EXPECT_EQ(budget, 512ull << 20);
+  } else {
+    EXPECT_GE(budget, 512ull << 20);
+    EXPECT_LE(budget, 4096ull << 20);
+    EXPECT_LE(budget, std::max<uint64_t>(512ull << 20, device / 4));
+  }
 }
 
 }  // namespace

@@ -13,7 +13,7 @@ namespace vktg::cli {
 std::vector<OptionSpec> deviceOptions() {
   return {{"--device", "D",
            "Vulkan device: index or name substring from `vktg info`, or gpu (default: $VKTG_DEVICE, else a GPU, else lavapipe)"},
-          {"--mem", "MIB", "memory budget for wavefront state and film in MiB (default 512)"},
+          {"--mem", "MIB", "memory budget for wavefront state and film in MiB (default 512 on a CPU device; on a GPU a quarter of its memory, 512 to 4096)"},
           {"--quiet", "", "no progress or summary on stderr"},
           {"--help", "", "show this help"}};
 }
@@ -60,7 +60,7 @@ void applyEstimatorOptions(const ParsedArgs& args, RenderOptions& options) {
 
 uint64_t memoryBudget(const ParsedArgs& args) {
   auto mib = args.count("--mem", 16, 1u << 20);
-  return uint64_t(mib.value_or(512)) << 20;
+  return uint64_t(mib.value_or(0)) << 20;  // 0: the device's default (defaultMemoryBudget)
 }
 
 Scene loadSceneWithOverrides(const ParsedArgs& args, bool allowDefault) {

@@ -19,7 +19,7 @@ struct BenchOptions {
   // The shortest a ladder's first point may take: on a fast device a fixed sample count measures
   // launch overhead, not the estimator (0: take the sample counts as they are).
   double pointSeconds = 0.05;
-  uint64_t memoryBudget = 512ull << 20;
+  uint64_t memoryBudget = 0;  // 0: the device's default
   std::function<void(const std::string&)> log;
 
   void say(const std::string& line) const {

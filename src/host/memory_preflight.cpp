@@ -27,7 +27,14 @@ RenderMemory filmAndBatchNeed(uint32_t width, uint32_t height, uint32_t layers, 
   return need;
 }
 
+uint64_t defaultMemoryBudget(const VulkanContext& context) {
+  constexpr uint64_t kCpuBudget = 512ull << 20, kLargestGpuBudget = 4096ull << 20;
+  if (context.properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) return kCpuBudget;
+  return std::clamp(context.report().deviceLocalBytes / 4, kCpuBudget, kLargestGpuBudget);
+}
+
 uint64_t checkRenderMemory(const VulkanContext& context, const RenderMemory& need, uint64_t budget) {
+  if (budget == 0) budget = defaultMemoryBudget(context);
   const uint64_t device = context.report().deviceLocalBytes;
   if (device > 0 && need.total() > device)
     throw Error("render: needs at least " + mib(need.total()) + " of device memory (" + breakdown(need) + ") but " +

@@ -22,7 +22,7 @@ struct OptimizeOptions {
   std::filesystem::path runDirectory;
   bool resume = false;                 // continue the run in runDirectory from its checkpoint
   bool force = false;                  // replace an existing run directory
-  uint64_t memoryBudget = 512ull << 20;
+  uint64_t memoryBudget = 0;  // 0: the device's default
   std::optional<uint32_t> iterations;  // overrides the experiment's stop.iterations
   std::function<void(const std::string&)> progress;  // one line per iteration (and a few more)
   bool explain = false;                // print the render and gradient plans once

@@ -34,7 +34,7 @@ struct RenderOptions {
   NeeMode nee = NeeMode::Auto;              // overrides the scene's render.nee unless Auto
   std::vector<std::string> neeNotes;        // how `nee` was chosen, for the plan (see planRender)
   EllipsoidSelection ellipsoidSelection = EllipsoidSelection::Auto;  // overrides the planner's unless Auto
-  uint64_t memoryBudget = 512ull << 20;     // bytes for wavefront state + film (`--mem`)
+  uint64_t memoryBudget = 0;  // bytes for wavefront state + film (`--mem`); 0: the device's default (memory_preflight.h)
   bool gateCutoff = true;                   // end paths whose length passed the gate (bench compares)
   bool profile = false;                     // time every pass (RenderResult::passMilliseconds); GPU
                                             // timestamps cost a few ms per render on lavapipe
