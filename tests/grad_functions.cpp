@@ -15,12 +15,15 @@
 // derivative passes through (forward error of an N-operation chain is <= N u relative to its
 // terms; rounded intermediates act like relative input perturbations, which `conditioning` scales):
 // kOpsUlps for single operations (at most ~6 operations each), kGeometryUlps for the geometry (cross
-// product, normalisation, dot products and divisions: under 40), kBsdfUlps for the BSDF (some 200
-// operations from the frame to the final division). The step h = 2^-13 (tangents are O(1)) keeps
+// product, normalisation, dot products and divisions: under 40), kBsdfUlps for the BSDF: some 200
+// operations from the frame to the final division, about 30 of them divisions, square roots and
+// normalisations, each counted at the error Vulkan allows it (tests/support/bsdf_reference.h: up
+// to 9 u for a square root, 5 u for a division): 170 + 30 x 9 = 440 u, so 512. The step h = 2^-13 (tangents are O(1)) keeps
 // truncation near 1e-8 relative for smooth pieces while the double differences stay at 1e-11.
 // A Dual3 result takes the largest float scale of its three components (see vectorScale). Each
 // tally prints the worst measured error in units of u (terms + conditioning), so a drift toward
-// the bound shows (at the time of writing: operations 11, geometry 15, BSDF 233 of 256).
+// the bound shows (at the time of writing, lavapipe: operations 11, geometry 15, BSDF 233 of 512;
+// an NVIDIA H200, whose divisions and square roots are not correctly rounded: BSDF 340).
 //
 // Excluded, counted and printed: (1) configurations whose stencil meets a kink or jump (the
 // step-halving test of centralDifference: a branch, a clamp, a cut-off, the two-sided flip, total
@@ -56,7 +59,7 @@ constexpr double kUnitRoundoff = 5.9604644775390625e-8;  // 2^-24
 constexpr double kStep = 1.0 / 8192.0;                   // 2^-13
 constexpr double kOpsUlps = 16.0;
 constexpr double kGeometryUlps = 64.0;
-constexpr double kBsdfUlps = 256.0;
+constexpr double kBsdfUlps = 512.0;
 constexpr double kMaxRelativeTolerance = 0.1;
 constexpr int kMaxReported = 12;
 
