@@ -14,6 +14,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "host/memory_arena.h"
 #include "host/memory_preflight.h"
 #include "support/gpu_context.h"
 #include "support/render_test.h"
@@ -75,6 +76,56 @@ TEST(RenderMemory, DefaultBudgetFollowsTheDevice) {
     EXPECT_LE(budget, 4096ull << 20);
     EXPECT_LE(budget, std::max<uint64_t>(512ull << 20, device / 4));
   }
+}
+
+// Successive sets of per-render buffers share one block: it is allocated again only to grow, and
+// each set reads back what it wrote at its own offsets (the buffers do not overlap one another).
+TEST(RenderMemory, ArenaBindsEachSetIntoOneBlockThatOnlyGrows) {
+  const VulkanContext& context = testContext();
+  MemoryArena arena(context, "test arena");
+  auto roundTrip = [&](std::vector<Buffer>& set) {
+    std::vector<Buffer*> pointers;
+    for (Buffer& b : set) pointers.push_back(&b);
+    arena.bind(pointers);
+    for (size_t i = 0; i < set.size(); ++i) {
+      std::vector<uint32_t> data(set[i].size() / 4, uint32_t(0x1000 * (i + 1)));
+      set[i].upload(context, data.data(), set[i].size());
+    }
+    for (size_t i = 0; i < set.size(); ++i) {
+      std::vector<uint32_t> back(set[i].size() / 4);
+      set[i].download(context, back.data(), set[i].size());
+      for (uint32_t v : back) ASSERT_EQ(v, uint32_t(0x1000 * (i + 1))) << set[i].name();
+    }
+  };
+  auto makeSet = [&](std::initializer_list<VkDeviceSize> sizes) {
+    std::vector<Buffer> set;
+    for (VkDeviceSize size : sizes)
+      set.emplace_back(context, size, MemoryKind::Device, "set" + std::to_string(set.size()), Binding::Arena);
+    return set;
+  };
+  {
+    std::vector<Buffer> large = makeSet({1 << 20, 4096, 3 << 18});
+    roundTrip(large);
+  }
+  EXPECT_EQ(arena.allocations(), 1u);
+  const VkDeviceSize capacity = arena.capacity();
+  EXPECT_GE(capacity, VkDeviceSize((1 << 20) + 4096 + (3 << 18)));
+  {
+    std::vector<Buffer> smaller = makeSet({256, 1 << 20});
+    roundTrip(smaller);
+  }
+  EXPECT_EQ(arena.allocations(), 1u);
+  EXPECT_EQ(arena.capacity(), capacity);
+  {
+    std::vector<Buffer> larger = makeSet({4 << 20, 1024});
+    roundTrip(larger);
+  }
+  EXPECT_EQ(arena.allocations(), 2u);
+  EXPECT_GE(arena.capacity(), VkDeviceSize((4 << 20) + 1024));
+  // A bound buffer cannot be bound twice.
+  std::vector<Buffer> once = makeSet({64});
+  arena.bind({&once[0]});
+  EXPECT_THROW(arena.bind({&once[0]}), Error);
 }
 
 }  // namespace

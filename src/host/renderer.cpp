@@ -7,6 +7,7 @@
 
 #include "host/frame_uniforms.h"
 #include "host/interrupt.h"
+#include "host/memory_arena.h"
 #include "host/memory_preflight.h"
 #include "host/pass_pipelines.h"
 #include "host/pass_profiler.h"
@@ -74,15 +75,20 @@ struct FrameResources {
     bool shadowAdjoint = false, edgeRecords = false;
     bool operator==(const Key&) const = default;
   };
-  FrameResources(const VulkanContext& context, const Key& k)
+  // The buffers are bound into `arena`, whose earlier buffers must be gone (Impl::frameResources).
+  FrameResources(const VulkanContext& context, const Key& k, MemoryArena& arena)
       : key(k), wave(context, k.batchSize, k.layers, k.lanes),
         tape(context, std::max<uint64_t>(16, uint64_t(k.batchSize) * k.tapeVertices * sizeof(gpu::TapeVertex)),
-             MemoryKind::Device, "adjoint.tape"),
+             MemoryKind::Device, "adjoint.tape", Binding::Arena),
         shadowAdjoint(context,
                       k.shadowAdjoint ? uint64_t(k.batchSize) * gpu::kShadowRaysPerPath * sizeof(gpu::ShadowAdjoint) : 16,
-                      MemoryKind::Device, "adjoint.shadow"),
+                      MemoryKind::Device, "adjoint.shadow", Binding::Arena),
         edgeRecords(context, k.edgeRecords ? uint64_t(k.batchSize) * sizeof(gpu::EdgeRecord) : 16, MemoryKind::Device,
-                    "edges.records") {}
+                    "edges.records", Binding::Arena) {
+    std::vector<Buffer*> buffers = wave.all();
+    buffers.insert(buffers.end(), {&tape, &shadowAdjoint, &edgeRecords});
+    arena.bind(buffers);
+  }
   uint64_t bytes() const { return wave.bytes() + tape.size() + shadowAdjoint.size() + edgeRecords.size(); }
   Key key;
   WavefrontBuffers wave;
@@ -94,18 +100,19 @@ struct FrameResources {
 struct Renderer::Impl {
   explicit Impl(VulkanContext& c)
       : context(c), pipelines(c, kShaderRegistry, defaultPipelineCacheFile(c)),
-        dummy(c, 256, MemoryKind::Device, "dummy") {}
+        dummy(c, 256, MemoryKind::Device, "dummy"), frameMemory(c, "frame state") {}
   VulkanContext& context;
   PassPipelines pipelines;
   Buffer dummy;
+  MemoryArena frameMemory;                // declared before `frame`, which it outlives
   std::unique_ptr<FrameResources> frame;
   std::optional<ChunkedBuffer> film;
   uint64_t filmFloats = 0;
 
   FrameResources& frameResources(const FrameResources::Key& key) {
     if (!frame || !(frame->key == key)) {
-      frame.reset();  // free the old buffers before allocating the new ones
-      frame = std::make_unique<FrameResources>(context, key);
+      frame.reset();  // the old buffers go before the new ones alias their memory
+      frame = std::make_unique<FrameResources>(context, key, frameMemory);
     }
     return *frame;
   }

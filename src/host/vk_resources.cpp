@@ -6,7 +6,34 @@
 
 namespace vktg {
 
-Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind, const std::string& name)
+VkMemoryPropertyFlags memoryFlagsFor(const VulkanContext& context, uint32_t memoryTypeBits, MemoryKind kind) {
+  constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  if (kind == MemoryKind::Device) {
+    constexpr VkMemoryPropertyFlags kLocal = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    return context.hasMemoryType(memoryTypeBits, kLocal | kHost) ? kLocal | kHost : kLocal;
+  }
+  constexpr VkMemoryPropertyFlags kCached = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+  return context.hasMemoryType(memoryTypeBits, kCached) ? kCached : kHost;
+}
+
+VkDeviceMemory allocateDeviceMemory(const VulkanContext& context, VkDeviceSize size, uint32_t typeIndex,
+                                    const std::string& name) {
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = size;
+  alloc.memoryTypeIndex = typeIndex;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkResult result = context.allocateMemory(alloc, &memory);
+  if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
+    throw DeviceFault(context.report().name + ": out of " +
+                      (result == VK_ERROR_OUT_OF_DEVICE_MEMORY ? "device" : "host") + " memory allocating '" + name +
+                      "' (" + std::to_string((size + (1u << 20) - 1) >> 20) +
+                      " MiB); lower --mem, the resolution, the bins or the parameters per block");
+  VKTG_VK_CHECK(result);
+  return memory;
+}
+
+Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind, const std::string& name,
+               Binding binding)
     : m_device(context.device()), m_size(size), m_name(name) {
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size > 0 ? size : 16;
@@ -16,37 +43,23 @@ Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind,
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   VKTG_VK_CHECK(vkCreateBuffer(m_device, &info, nullptr, &m_buffer));
   context.setObjectName(VK_OBJECT_TYPE_BUFFER, uint64_t(m_buffer), name);
+  if (binding == Binding::Arena) return;  // MemoryArena::bind gives it memory
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(m_device, m_buffer, &req);
-
-  constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  VkMemoryPropertyFlags flags = 0;
-  if (kind == MemoryKind::Device) {
-    flags = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-    // Integrated GPUs and lavapipe expose device memory the host can map: skip staging there.
-    if (context.hasMemoryType(req.memoryTypeBits, flags | kHost)) flags |= kHost;
-  } else {
-    flags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
-    if (!context.hasMemoryType(req.memoryTypeBits, flags)) flags = kHost;
-  }
-  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = context.findMemoryType(req.memoryTypeBits, flags);
-  VkResult result = context.allocateMemory(alloc, &m_memory);
-  if (result != VK_SUCCESS) {
+  const VkMemoryPropertyFlags flags = memoryFlagsFor(context, req.memoryTypeBits, kind);
+  const uint32_t typeIndex = context.findMemoryType(req.memoryTypeBits, flags);
+  try {
+    m_memory = allocateDeviceMemory(context, req.size, typeIndex, name);
+  } catch (...) {
     reset();
-    if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
-      throw DeviceFault(context.report().name + ": out of " +
-                        (result == VK_ERROR_OUT_OF_DEVICE_MEMORY ? "device" : "host") + " memory allocating '" + name +
-                        "' (" + std::to_string((req.size + (1u << 20) - 1) >> 20) +
-                        " MiB); lower --mem, the resolution, the bins or the parameters per block");
-    VKTG_VK_CHECK(result);
+    throw;
   }
   VKTG_VK_CHECK(vkBindBufferMemory(m_device, m_buffer, m_memory, 0));
+  m_bound = true;
+  m_flushMemory = m_memory;
   if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
     VKTG_VK_CHECK(vkMapMemory(m_device, m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
-    m_coherent = (flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) != 0 ||
-                 context.hasMemoryType(1u << alloc.memoryTypeIndex, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    m_coherent = context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
   }
 }
 
@@ -59,6 +72,8 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     m_size = std::exchange(other.m_size, 0);
     m_mapped = std::exchange(other.m_mapped, nullptr);
     m_coherent = other.m_coherent;
+    m_bound = std::exchange(other.m_bound, false);
+    m_flushMemory = std::exchange(other.m_flushMemory, VK_NULL_HANDLE);
     m_name = std::move(other.m_name);
   }
   return *this;
@@ -70,6 +85,8 @@ void Buffer::reset() {
   m_buffer = VK_NULL_HANDLE;
   m_memory = VK_NULL_HANDLE;
   m_mapped = nullptr;
+  m_bound = false;
+  m_flushMemory = VK_NULL_HANDLE;
 }
 
 void Buffer::upload(const VulkanContext& context, const void* data, size_t bytes, size_t offset) {
@@ -77,7 +94,7 @@ void Buffer::upload(const VulkanContext& context, const void* data, size_t bytes
   if (m_mapped) {
     std::memcpy(static_cast<char*>(m_mapped) + offset, data, bytes);
     if (!m_coherent) {
-      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_memory, 0, VK_WHOLE_SIZE};
+      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_flushMemory, 0, VK_WHOLE_SIZE};
       VKTG_VK_CHECK(vkFlushMappedMemoryRanges(m_device, 1, &range));
     }
     return;
@@ -96,7 +113,7 @@ void Buffer::download(const VulkanContext& context, void* data, size_t bytes, si
   if (bytes == 0) return;
   if (m_mapped) {
     if (!m_coherent) {
-      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_memory, 0, VK_WHOLE_SIZE};
+      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_flushMemory, 0, VK_WHOLE_SIZE};
       VKTG_VK_CHECK(vkInvalidateMappedMemoryRanges(m_device, 1, &range));
     }
     std::memcpy(data, static_cast<const char*>(m_mapped) + offset, bytes);

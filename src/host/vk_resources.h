@@ -57,12 +57,16 @@ enum class MemoryKind {
   Readback,  // host-visible and cached, for copies back to the host
 };
 
-// A buffer with its own memory allocation. Usable as storage, uniform, uniform texel, indirect and
-// copy source/target.
+// Whether a buffer allocates its own memory or is bound later into a MemoryArena's block.
+enum class Binding { OwnMemory, Arena };
+
+// A buffer, with its own memory allocation or bound into a MemoryArena (host/memory_arena.h).
+// Usable as storage, uniform, uniform texel, indirect and copy source/target.
 class Buffer {
  public:
   Buffer() = default;
-  Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind, const std::string& name);
+  Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind, const std::string& name,
+         Binding binding = Binding::OwnMemory);
   ~Buffer() { reset(); }
   Buffer(Buffer&& other) noexcept { *this = std::move(other); }
   Buffer& operator=(Buffer&& other) noexcept;
@@ -82,14 +86,27 @@ class Buffer {
   void reset();
 
  private:
+  friend class MemoryArena;
   VkDevice m_device = VK_NULL_HANDLE;
   VkBuffer m_buffer = VK_NULL_HANDLE;
-  VkDeviceMemory m_memory = VK_NULL_HANDLE;
+  VkDeviceMemory m_memory = VK_NULL_HANDLE;  // owned; null for a buffer bound into an arena
   VkDeviceSize m_size = 0;
   void* m_mapped = nullptr;
   bool m_coherent = true;
+  bool m_bound = false;  // memory bound (own or an arena's)
+  VkDeviceMemory m_flushMemory = VK_NULL_HANDLE;  // the memory to flush or invalidate when not coherent
   std::string m_name;
 };
+
+// The memory properties a buffer of `kind` asks for on this device (`memoryTypeBits` from its
+// requirements): device-local, mapped too where the device offers host-visible device memory
+// (integrated GPUs, lavapipe: no staging there); host-visible and cached for readback.
+VkMemoryPropertyFlags memoryFlagsFor(const VulkanContext& context, uint32_t memoryTypeBits, MemoryKind kind);
+
+// vkAllocateMemory through the context (fault injection), or a DeviceFault naming `name` and the
+// size when the device or host is out of memory.
+VkDeviceMemory allocateDeviceMemory(const VulkanContext& context, VkDeviceSize size, uint32_t typeIndex,
+                                    const std::string& name);
 
 // A primary command buffer from the context's pool, freed on destruction.
 class CommandBuffer {

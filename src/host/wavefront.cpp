@@ -33,25 +33,39 @@ uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint32_t lanes, uin
 }
 
 WavefrontBuffers::WavefrontBuffers(const VulkanContext& context, uint32_t batchSize, uint32_t layers, uint32_t lanes)
-    : paths(context, uint64_t(batchSize) * sizeof(gpu::PathState), MemoryKind::Device, "wavefront.paths"),
-      hits(context, uint64_t(batchSize) * sizeof(gpu::HitRecord), MemoryKind::Device, "wavefront.hits"),
-      rayQueues(context, 4ull * batchSize * sizeof(uint32_t), MemoryKind::Device, "wavefront.rayQueues"),
+    : paths(context, uint64_t(batchSize) * sizeof(gpu::PathState), MemoryKind::Device, "wavefront.paths", Binding::Arena),
+      hits(context, uint64_t(batchSize) * sizeof(gpu::HitRecord), MemoryKind::Device, "wavefront.hits", Binding::Arena),
+      rayQueues(context, 4ull * batchSize * sizeof(uint32_t), MemoryKind::Device, "wavefront.rayQueues",
+                Binding::Arena),
       shadowQueue(context, uint64_t(gpu::kShadowRaysPerPath) * batchSize * sizeof(gpu::ShadowRay), MemoryKind::Device,
-                  "wavefront.shadowQueue"),
-      counters(context, gpu::kCounterCount * sizeof(uint32_t), MemoryKind::Device, "wavefront.counters"),
-      dispatchArgs(context, 3 * gpu::kArgsCount * sizeof(uint32_t), MemoryKind::Device, "wavefront.dispatchArgs"),
+                  "wavefront.shadowQueue", Binding::Arena),
+      counters(context, gpu::kCounterCount * sizeof(uint32_t), MemoryKind::Device, "wavefront.counters",
+               Binding::Arena),
+      dispatchArgs(context, 3 * gpu::kArgsCount * sizeof(uint32_t), MemoryKind::Device, "wavefront.dispatchArgs",
+                   Binding::Arena),
       pathAccum(context, uint64_t(batchSize) * layers * (1 + lanes) * sizeof(float), MemoryKind::Device,
-                "wavefront.pathAccum"),
+                "wavefront.pathAccum", Binding::Arena),
       pathDerivs(context, std::max<uint64_t>(16, uint64_t(batchSize) * lanes * sizeof(gpu::PathDerivative)),
-                 MemoryKind::Device, "wavefront.pathDerivs"),
+                 MemoryKind::Device, "wavefront.pathDerivs", Binding::Arena),
       shadowDerivs(context, std::max<uint64_t>(16, uint64_t(gpu::kShadowRaysPerPath) * batchSize * lanes * 2 * sizeof(float)),
-                   MemoryKind::Device, "wavefront.shadowDerivs") {}
+                   MemoryKind::Device, "wavefront.shadowDerivs", Binding::Arena) {}
+
+namespace {
+
+// Every buffer of `w` (const or not), in one place for all() and bytes().
+template <class Wave>
+auto buffersOf(Wave& w) {
+  return std::vector{&w.paths, &w.hits, &w.rayQueues, &w.shadowQueue, &w.counters, &w.dispatchArgs, &w.pathAccum,
+                     &w.pathDerivs, &w.shadowDerivs};
+}
+
+}  // namespace
+
+std::vector<Buffer*> WavefrontBuffers::all() { return buffersOf(*this); }
 
 uint64_t WavefrontBuffers::bytes() const {
   uint64_t total = 0;
-  for (const Buffer* b : {&paths, &hits, &rayQueues, &shadowQueue, &counters, &dispatchArgs, &pathAccum, &pathDerivs,
-                          &shadowDerivs})
-    total += b->size();
+  for (const Buffer* b : buffersOf(*this)) total += b->size();
   return total;
 }
 

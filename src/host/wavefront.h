@@ -2,6 +2,7 @@
 // arguments, per-path accumulators) and the batch size a memory budget allows.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "host/vk_resources.h"
 
@@ -23,8 +24,11 @@ uint32_t batchSizeFor(uint64_t budgetBytes, uint32_t layers, uint32_t lanes, uin
                       uint64_t maxPaths, uint32_t maxGroups, const ExtraPathState& extra = {});
 
 struct WavefrontBuffers {
+  // Unbound (Binding::Arena): the renderer binds them, with its other per-render buffers, into
+  // its MemoryArena.
   WavefrontBuffers(const VulkanContext& context, uint32_t batchSize, uint32_t layers, uint32_t lanes);
   uint64_t bytes() const;
+  std::vector<Buffer*> all();
 
   Buffer paths, hits, rayQueues, shadowQueue, counters, dispatchArgs, pathAccum;
   Buffer pathDerivs, shadowDerivs;  // derivative lanes (16 bytes when there are none)
