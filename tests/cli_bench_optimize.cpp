@@ -4,12 +4,15 @@
 // benchmark's output, never asserted here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "host/bench_optimize.h"
 #include "support/cli_runner.h"
+#include "support/gpu_context.h"
 
 namespace vktg::test {
 namespace {
@@ -37,6 +40,31 @@ TEST(CliBenchOptimize, EveryRowTimedAndEveryPassProfiled) {
   for (const char* pass : {"render: ", "interior/shade_adj", "edges/sample_edges", "boundary/shade_adj",
                            "boundary-from-camera/connect_camera_boundary_adj", "interior+boundary/shade_adj"})
     EXPECT_NE(log.find(pass), std::string::npos) << "no " << pass << " in the profile\n" << log;
+}
+
+// The report is handed over after every size, so a run stopped part-way (a time limit, Ctrl-C)
+// keeps the rows it measured: here the second size never finishes, and the rows written are the
+// first one's.
+TEST(CliBenchOptimize, RowsAreHandedOverAsTheyAreMeasured) {
+  TempDir dir;
+  BenchOptimizeOptions options;
+  options.sizes = {3, 4};
+  options.runs = 1;
+  options.scale = 0.125;
+  options.outDir = dir / "bench";
+  struct Stop {};
+  std::vector<size_t> seen;
+  EXPECT_THROW(benchOptimize(testContext(), options,
+                             [&](const BenchOptimizeReport& report) {
+                               seen.push_back(report.rows.size());
+                               writeBenchOptimizeReport(report, options, "test");
+                               throw Stop{};  // as an interrupt during the next size would
+                             }),
+               Stop);
+  EXPECT_EQ(seen, std::vector<size_t>{1});
+  const std::string csv = readFileBytes(dir / "bench" / "bench.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2) << csv;  // the header and the 3 x 3 row
+  EXPECT_EQ(csv.find("\n3,9,"), csv.find('\n')) << csv;
 }
 
 }  // namespace

@@ -120,7 +120,9 @@ int runBench(const std::vector<std::string>& argv) {
     if (auto sizes = args.get("--sizes")) bench.sizes = parseSizes(*sizes);
     bench.pathLength = !args.has("--no-path-length");
     bench.profile = args.has("--profile");
-    writeBenchOptimizeReport(benchOptimize(*context, bench), bench, command);
+    benchOptimize(*context, bench, [&](const BenchOptimizeReport& report) {
+      writeBenchOptimizeReport(report, bench, command);  // after every size: an interrupted run keeps its rows
+    });
     log("wrote " + options.outDir.string() + "/{bench.csv,plot.png,table.md}");
     return finishWithValidationCheck(*context, 0);
   }

@@ -74,7 +74,8 @@ ImageSet randomAdjoint(uint32_t width, uint32_t height) {
 
 }  // namespace
 
-BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOptions& options) {
+BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOptions& options,
+                                  const std::function<void(const BenchOptimizeReport&)>& rowDone) {
   BenchOptimizeReport report;
   report.device = context.report().name;
   const uint32_t resolution = options.scaledSide(options.resolution);
@@ -182,14 +183,15 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     char line[512];
     std::snprintf(line, sizeof line,
                   "  render %.4f s; adjoint gradient of all %llu heights: interior %.2fx, edges %.2fx, path-length "
-                  "boundary %.2fx, all %.2fx (%.2fx tracing the interior and boundary terms apart) the render; update %.4f s (+ %.4f s SAH check); forward lanes for %u heights %.2fx",
+                  "boundary %.2fx, all %.2fx (%.2fx tracing the interior and boundary terms apart) the render; update %.4f s (+ %.4f s SAH check); iteration %.2fx; forward lanes for %u heights %.2fx",
                   row.renderSeconds, (unsigned long long)row.parameters, row.interiorSeconds / row.renderSeconds,
                   row.edgeSeconds / row.renderSeconds, row.boundarySeconds / row.renderSeconds,
                   row.allSeconds / row.renderSeconds, row.allApartSeconds / row.renderSeconds, row.updateSeconds,
-                  row.checkSeconds, row.denseLanes,
+                  row.checkSeconds, row.iterationSeconds() / row.renderSeconds, row.denseLanes,
                   row.denseSeconds / row.renderSeconds);
     options.say(line);
     report.rows.push_back(row);
+    if (rowDone) rowDone(report);
   }
   return report;
 }

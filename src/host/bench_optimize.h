@@ -3,6 +3,7 @@
 // gradient of an image loss with respect to every height is taken by the adjoint passes (each
 // term alone and all three together) and, for contrast, by forward-mode lanes for a few heights.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,7 +45,10 @@ struct BenchOptimizeReport {
   std::string device;
 };
 
-BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOptions& options);
+// `rowDone` (if set) gets the report after each size, so that a run stopped early (a time limit,
+// Ctrl-C) can still write the rows it measured.
+BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOptions& options,
+                                  const std::function<void(const BenchOptimizeReport&)>& rowDone = {});
 // bench.csv, table.md and plot.png (cost / render against log10 of the parameter count) in options.outDir.
 void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOptimizeOptions& options, const std::string& command);
 
