@@ -56,6 +56,11 @@ def scene(n, bin_width):
     }
 
 
+def large_steps_lambda(heights):
+    n = math.isqrt(len(heights))
+    return round(4 * (n - 1) ** 2 / 49)
+
+
 def experiment(heights, scan, gate, iterations, description):
     targets = []
     for b in range(scan):
@@ -79,7 +84,11 @@ def experiment(heights, scan, gate, iterations, description):
         "optimizer": {"type": "adam", "learning_rate": 0.01, "schedule": {"type": "exponential", "decay": 0.98}},
         "regularizers": [{"type": "laplacian", "shape": "hidden", "weight": 0.05}],
         # Smooth steps (Nicolet et al. 2021): each height's gradient spread over its neighbours.
-        "preconditioner": {"type": "large_steps", "shape": "hidden", "lambda": 4},
+        # lambda counts in mesh spacings squared; scaling it with the square of the resolution keeps
+        # the smoothing length in metres (4 at 8 x 8, the repository's size; 800 at 100 x 100, where
+        # lambda = 4 left the 10^4-height scan at 0.033 m of 0.035 after 150 iterations and 800
+        # reached 0.023, docs/experiments.md).
+        "preconditioner": {"type": "large_steps", "shape": "hidden", "lambda": large_steps_lambda(heights)},
         "render": {"spp": 256, "spp_interior": 256, "spp_edge": 64, "spp_boundary": 256},
         "stop": {"iterations": iterations},
         "checkpoint_every": 10,
