@@ -22,7 +22,7 @@ void MemoryArena::bind(const std::vector<Buffer*>& buffers) {
   VkDeviceSize end = 0;
   uint32_t typeBits = ~0u;
   for (const Buffer* b : buffers) {
-    if (b->m_bound) throw Error("memory arena '" + m_name + "': buffer '" + b->name() + "' is bound already");
+    if (b->m_boundMemory) throw Error("memory arena '" + m_name + "': buffer '" + b->name() + "' is bound already");
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device, b->handle(), &req);
     const VkDeviceSize offset = (end + req.alignment - 1) / req.alignment * req.alignment;
@@ -47,8 +47,7 @@ void MemoryArena::bind(const std::vector<Buffer*>& buffers) {
   size_t i = 0;
   for (Buffer* b : buffers) {
     VKTG_VK_CHECK(vkBindBufferMemory(device, b->handle(), m_memory, offsets[i]));
-    b->m_bound = true;
-    b->m_flushMemory = m_memory;
+    b->m_boundMemory = m_memory;
     b->m_mapped = m_mapped ? static_cast<char*>(m_mapped) + offsets[i] : nullptr;
     b->m_coherent = m_coherent;
     ++i;

@@ -55,8 +55,7 @@ Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind,
     throw;
   }
   VKTG_VK_CHECK(vkBindBufferMemory(m_device, m_buffer, m_memory, 0));
-  m_bound = true;
-  m_flushMemory = m_memory;
+  m_boundMemory = m_memory;
   if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
     VKTG_VK_CHECK(vkMapMemory(m_device, m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
     m_coherent = context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
@@ -72,8 +71,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     m_size = std::exchange(other.m_size, 0);
     m_mapped = std::exchange(other.m_mapped, nullptr);
     m_coherent = other.m_coherent;
-    m_bound = std::exchange(other.m_bound, false);
-    m_flushMemory = std::exchange(other.m_flushMemory, VK_NULL_HANDLE);
+    m_boundMemory = std::exchange(other.m_boundMemory, VK_NULL_HANDLE);
     m_name = std::move(other.m_name);
   }
   return *this;
@@ -85,8 +83,7 @@ void Buffer::reset() {
   m_buffer = VK_NULL_HANDLE;
   m_memory = VK_NULL_HANDLE;
   m_mapped = nullptr;
-  m_bound = false;
-  m_flushMemory = VK_NULL_HANDLE;
+  m_boundMemory = VK_NULL_HANDLE;
 }
 
 void Buffer::upload(const VulkanContext& context, const void* data, size_t bytes, size_t offset) {
@@ -94,7 +91,7 @@ void Buffer::upload(const VulkanContext& context, const void* data, size_t bytes
   if (m_mapped) {
     std::memcpy(static_cast<char*>(m_mapped) + offset, data, bytes);
     if (!m_coherent) {
-      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_flushMemory, 0, VK_WHOLE_SIZE};
+      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_boundMemory, 0, VK_WHOLE_SIZE};
       VKTG_VK_CHECK(vkFlushMappedMemoryRanges(m_device, 1, &range));
     }
     return;
@@ -113,7 +110,7 @@ void Buffer::download(const VulkanContext& context, void* data, size_t bytes, si
   if (bytes == 0) return;
   if (m_mapped) {
     if (!m_coherent) {
-      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_flushMemory, 0, VK_WHOLE_SIZE};
+      VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_boundMemory, 0, VK_WHOLE_SIZE};
       VKTG_VK_CHECK(vkInvalidateMappedMemoryRanges(m_device, 1, &range));
     }
     std::memcpy(data, static_cast<const char*>(m_mapped) + offset, bytes);

@@ -93,8 +93,7 @@ class Buffer {
   VkDeviceSize m_size = 0;
   void* m_mapped = nullptr;
   bool m_coherent = true;
-  bool m_bound = false;  // memory bound (own or an arena's)
-  VkDeviceMemory m_flushMemory = VK_NULL_HANDLE;  // the memory to flush or invalidate when not coherent
+  VkDeviceMemory m_boundMemory = VK_NULL_HANDLE;  // what the buffer is bound to (its own or an arena's); null: unbound
   std::string m_name;
 };
 
