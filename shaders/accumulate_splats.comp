@@ -58,6 +58,7 @@ void main() {
   uint index = gl_GlobalInvocationID.x;
   if (index >= push.args.w * layers * laneCount) return;
   uint i = index / (layers * laneCount);
+  setViewOfPath(paths[2u * i]);  // an edge record's factor reads the camera
   uint layer = (index / laneCount) % layers, lane = index % laneCount;
   uint pixel0 = paths[2u * i].ids.x, pixel1 = paths[2u * i + 1u].ids.x;
   float x0 = slotValue(2u * i, layer, lane), x1 = slotValue(2u * i + 1u, layer, lane);

@@ -25,6 +25,7 @@ void backpropPath() {
   if (path >= push.args.w) return;
   uint n = tapeLength(path);
   if (n == 0u) return;
+  setViewOfPath(paths[path]);
   float valueSuffix = 0.0, lengthSuffix = 0.0;
   // The window of the walk: x_j, x_{j-1}, x_{j-2} and their adjoints.
   TapePoint x = tapePoint(n, path), x1 = tapePoint(n - 1u, path);

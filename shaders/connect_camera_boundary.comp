@@ -124,13 +124,18 @@ void connectDirect(uint slot, vec3 c, float s, uint jump, float weight, vec4 uEl
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= push.args.w) return;
-  uint sampleIndex = push.args.x + i;
-  for (uint side = 0u; side < 2u; ++side) paths[2u * i + side].ids = uvec4(kNoPixel, sampleIndex, 0u, 0u);
-  uint seed = frame.image.w;
+  // Random numbers are keyed by the sample's index within its view.
+  setViewOfSample(push.args.x + i);
+  uint sampleIndex = viewSample(push.args.x + i);
+  for (uint side = 0u; side < 2u; ++side) {
+    paths[2u * i + side].ids = uvec4(kNoPixel, sampleIndex, 0u, 0u);
+    paths[2u * i + side].misc.z = viewBits();
+  }
+  uint seed = viewSeed();
   Rng rg = rngForBounce(kNoPixel, sampleIndex, 0u, kRngSlotGate, seed);
   Rng rl = rngForBounce(kNoPixel, sampleIndex, 0u, kRngSlotEllipsoidLight, seed);
   Rng re = rngForBounce(kNoPixel, sampleIndex, 0u, kRngSlotEllipsoid, seed);
-  vec3 c = frame.cameraPosition.xyz;
+  vec3 c = cameraPosition();
   vec4 uGate = rngNext4(rg), uEllipsoid = rngNext4(re);
   bool twoSegments = kSpecCameraTypeValue == kCameraPerspective && frame.gateInfo.w >= 2u;
   bool direct = sceneHasLightType(kLightAreaTriangle);

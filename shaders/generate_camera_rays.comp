@@ -19,11 +19,13 @@ layout(push_constant) uniform Push { PassPush push; };
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= push.args.w) return;
-  uint pixels = frame.image.x * frame.image.y;
+  uint pixels = frame.image.x * frame.image.y;  // of every view
   uint linear = push.args.x + i;
   uint pixel = linear % pixels;
   uint sampleIndex = push.args.y + linear / pixels;
-  Rng rng = rngCreate(pixel, sampleIndex, kRngDimCamera, frame.image.w);
+  setViewOfPixel(pixel);
+  uint local = viewPixel(pixel);
+  Rng rng = rngCreate(local, sampleIndex, kRngDimCamera, viewSeed());
   vec4 u = rngNext4(rng);
 
 #ifdef VKTG_DERIVATIVE
@@ -34,20 +36,20 @@ void main() {
   tape[tapeIndex(0u, i)] = TapeVertex(vec4(uintBitsToFloat(0xffffffffu), 0.0, 0.0, 1.0), vec4(0.0));
 #endif
   PathState ps;
-  ps.position = vec4(frame.cameraPosition.xyz, 0.0);
+  vec3 camera = cameraPosition(), forward = cameraForward();
+  ps.position = vec4(camera, 0.0);
   ps.ids = uvec4(pixel, sampleIndex, 0u, 0u);
-  ps.misc = vec4(0.0, 1.0, 0.0, 0.0);
-  ps.previous = vec4(frame.cameraPosition.xyz, uintBitsToFloat(0xffffffffu));
+  ps.misc = vec4(0.0, 1.0, viewBits(), 0.0);
+  ps.previous = vec4(camera, uintBitsToFloat(0xffffffffu));
   if (kSpecCameraTypeValue == kCameraPerspective) {
-    float px = (float(pixel % frame.image.x) + u.x) / float(frame.image.x);
-    float py = (float(pixel / frame.image.x) + u.y) / float(frame.image.y);
-    vec3 dir = normalize(frame.cameraForward.xyz + (2.0 * px - 1.0) * frame.cameraRight.xyz +
-                         (1.0 - 2.0 * py) * frame.cameraUp.xyz);
+    float px = (float(local % frame.image.x) + u.x) / float(frame.image.x);
+    float py = (float(local / frame.image.x) + u.y) / float(frame.viewInfo.y);
+    vec3 dir = normalize(forward + (2.0 * px - 1.0) * cameraRight() + (1.0 - 2.0 * py) * cameraUp());
     ps.direction = vec4(dir, 0.0);
-    ps.normal = vec4(frame.cameraForward.xyz, 1.0);
+    ps.normal = vec4(forward, 1.0);
   } else {
     // Cosine-weighted direction about the sensor normal: importance cos / pdf = pi.
-    vec3 n = frame.cameraForward.xyz;
+    vec3 n = forward;
     vec3 t, b;
     basisFromNormal(n, t, b);
     vec3 local = sampleCosineHemisphere(u.xy);

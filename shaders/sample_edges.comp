@@ -56,7 +56,7 @@ const uint kEdgeStrategyPrimary = 0u, kEdgeStrategyToLight = 1u, kEdgeStrategySe
 
 uint edgeStrategy(uint sampleIndex) {
   // The offset's stream: no edge sample has index 0xffffffff (a render holds fewer than 2^32).
-  uint offset = hash4(uvec4(kNoPixel, 0xffffffffu, kRngDimCamera, frame.image.w)).x % kEdgeStrategyCycle;
+  uint offset = hash4(uvec4(kNoPixel, 0xffffffffu, kRngDimCamera, viewSeed())).x % kEdgeStrategyCycle;
   uint block = (sampleIndex / kEdgeStrategyBlock + offset) % kEdgeStrategyCycle;
   return block < kPrimaryBlocks ? kEdgeStrategyPrimary
          : block < kPrimaryBlocks + kToLightBlocks ? kEdgeStrategyToLight
@@ -75,7 +75,7 @@ void startEdgePath(uint slot, vec3 from, vec3 before, uint fromTriangle, vec3 fr
   ps.position = vec4(from, len);
   ps.direction = vec4(dir, 0.0);
   ps.normal = vec4(fromNormal, throughput);
-  ps.misc = vec4(0.0, ior, 0.0, 0.0);
+  ps.misc = vec4(0.0, ior, viewBits(), 0.0);
   ps.ids = uvec4(pixel, sampleIndex, depth, flags | kPathFlagEdgeArrival | ((firstEllipsoid + 1u) << kPathEllipsoidShift));
   ps.previous = vec4(before, uintBitsToFloat(fromTriangle));
   paths[slot] = ps;
@@ -85,7 +85,7 @@ void startEdgePath(uint slot, vec3 from, vec3 before, uint fromTriangle, vec3 fr
 }
 
 void primarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3 y, float pY, float offset) {
-  vec3 c = frame.cameraPosition.xyz;
+  vec3 c = cameraPosition();
   float dA = distance(y, c);
   vec3 w = (y - c) / dA;
   vec3 np;
@@ -110,7 +110,7 @@ void primarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3
     // Behind a pinhole x_b slides along the ray, within the plane: no normal velocity.
     if (!pinhole) recordEndB(r, tb, hb.tuvTriangle.yz, 0xffffffffu);
     edgeRecords[2u * i] = r;
-    startEdgePath(2u * i, c, c, 0xffffffffu, frame.cameraForward.xyz, 0.0, wVisible, hb, weight, 1.0, 0u, pixel,
+    startEdgePath(2u * i, c, c, 0xffffffffu, cameraForward(), 0.0, wVisible, hb, weight, 1.0, 0u, pixel,
                   sampleIndex, 0u);
   }
   if (!pinhole) return;
@@ -123,14 +123,14 @@ void primarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3
   hidden.normalScale.w = 1.0;
   hidden.ends.yz = vec2(0.0);
   edgeRecords[2u * i + 1u] = hidden;
-  startEdgePath(2u * i + 1u, c, c, 0xffffffffu, frame.cameraForward.xyz, 0.0, wHidden, ho, weight, 1.0, 0u, pixel,
+  startEdgePath(2u * i + 1u, c, c, 0xffffffffu, cameraForward(), 0.0, wHidden, ho, weight, 1.0, 0u, pixel,
                 sampleIndex, 0u);
 }
 
 // The camera's view of a surface point: importance times the geometry term of point -> camera
 // (0 if hidden or outside the image), its pixel, and the distance and unit direction to the camera.
 float cameraConnection(vec3 position, vec3 normal, out uint pixel, out vec3 wc, out float r) {
-  vec3 c = frame.cameraPosition.xyz;
+  vec3 c = cameraPosition();
   r = distance(c, position);
   pixel = kNoPixel;
   wc = vec3(0.0);
@@ -169,7 +169,7 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
   float weight = 1.0, comp = 0.0;
   for (uint c = 1u; c <= maxSegments; ++c) {
     if (m.type == kMaterialDielectric) return 0.0;  // neither connects (delta BSDF) nor continues (above)
-    Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimEdgeWalk + c, frame.image.w);
+    Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimEdgeWalk + c, viewSeed());
     vec4 u = rngNext4(rng);
     bool last = c == maxSegments;
     vec3 wc;
@@ -292,13 +292,16 @@ void toLightSample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= push.args.w) return;
-  uint sampleIndex = push.args.x + i;
+  // Random numbers are keyed by the sample's index within its view.
+  setViewOfSample(push.args.x + i);
+  uint sampleIndex = viewSample(push.args.x + i);
   for (uint side = 0u; side < 2u; ++side) {
     paths[2u * i + side].ids = uvec4(kNoPixel, sampleIndex, 0u, 0u);
+    paths[2u * i + side].misc.z = viewBits();
     edgeRecords[2u * i + side] = EdgeRecord(vec4(0.0), vec4(0.0), uvec4(0xffffffffu), uvec4(0xffffffffu));
   }
   if (frame.edgeInfo.x == 0u) return;
-  Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimCamera, frame.image.w);
+  Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimCamera, viewSeed());
   vec4 u = rngNext4(rng);
   uint edge = selectEdge(u.x);
   GpuEdge e = edges[edge];

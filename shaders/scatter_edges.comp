@@ -25,6 +25,7 @@ void main() {
   EdgeRecord r = edgeRecords[slot];
   uint pixel = paths[slot].ids.x;
   if (r.normalScale.w == 0.0 || pixel == kNoPixel) return;
+  setViewOfPath(paths[slot]);
   uint layers = frame.gateInfo.y;
   float weight = 0.0;
   for (uint k = 0u; k < layers; ++k) weight += adjointOf(pixel, k) * pathAccum[slot * layers + k];

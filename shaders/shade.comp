@@ -31,6 +31,7 @@ void shadeHit() {
   HitRecord hit = loadHit(path);
   if (hit.tuvTriangle.x < 0.0) return;  // escaped: no environment light
 
+  setViewOfPath(ps);
   uint pixel = ps.ids.x, sampleIndex = ps.ids.y;
   uint depth = ps.ids.z + 1u;
   SurfacePoint sp = surfacePoint(floatBitsToUint(hit.tuvTriangle.w), hit.tuvTriangle.yz);
@@ -61,7 +62,7 @@ void shadeHit() {
       Dual3 previousNormal;
       Dual f;
       if (depth == 1u) {
-        previousNormal = dual3(frame.cameraForward.xyz);
+        previousNormal = dual3(cameraForward());
         f = dual(1.0);
       } else {
         uint previousTriangle = floatBitsToUint(ps.previous.w);
@@ -155,7 +156,7 @@ void shadeHit() {
     atomicAdd(counters[kCounterEndedByDepth], 1u);
     return;
   }
-  Rng rb = rngForBounce(pixel, sampleIndex, depth, kRngSlotBsdf, frame.image.w);
+  Rng rb = rngForBounce(viewPixel(pixel), sampleIndex, depth, kRngSlotBsdf, viewSeed());
   BsdfSample bs;
   if (!bsdfSample(v.material, sp.normal, wi, rngNext4(rb).xyz, bs)) return;
   throughput *= bs.weight;
@@ -164,7 +165,7 @@ void shadeHit() {
   // Russian roulette only once the path has reached the gate's support: before that the path
   // has contributed nothing yet, and its length (not a bounce count) already bounds it.
   if (depth >= frame.pathInfo.x && len >= frame.gateSupport.x) {
-    Rng rr = rngForBounce(pixel, sampleIndex, depth, kRngSlotLight, frame.image.w);
+    Rng rr = rngForBounce(viewPixel(pixel), sampleIndex, depth, kRngSlotLight, viewSeed());
     float survive = clamp(throughput, 0.05, 0.95);
     if (rngNext4(rr).w >= survive) {
       atomicAdd(counters[kCounterEndedByRoulette], 1u);
@@ -185,7 +186,7 @@ void shadeHit() {
   ps.position = vec4(sp.position, len);
   ps.direction = vec4(bs.wo, comp);
   ps.normal = vec4(sp.normal, throughput);
-  ps.misc = vec4(bs.pdf, ior, 0.0, 0.0);
+  ps.misc = vec4(bs.pdf, ior, viewBits(), 0.0);
   ps.ids.z = depth;
   ps.ids.w &= ~(kPathFlagEdgeArrival | kPathFlagNoArrivalEmission);
   paths[path] = ps;

@@ -50,7 +50,7 @@ LightEnd lightEnd(uvec4 record) {
   l.isPoint = sceneHasLightType(kLightPoint) && light.type == kLightPoint;
   l.uv = uintBitsToFloat(record.yz);
   if (l.isPoint || !sceneHasLightType(kLightAreaTriangle)) {
-    l.position = light.positionIntensity.xyz;
+    l.position = pointLightPosition(record.x, light.positionIntensity.xyz);
     l.normal = vec3(0.0);
     l.emission = light.positionIntensity.w;
     l.triangle = 0xffffffffu;
@@ -81,13 +81,13 @@ void scatterLightEnd(LightEnd l, uint lightIndex, VertexAdjoint y, float valueWe
 void cameraConnectionAdjoint(ShadowRay r, ShadowAdjoint sa, float lengthWeight) {
   SurfacePoint m = surfacePoint(sa.middle.x, uintBitsToFloat(sa.middle.yz));
   bool rayForm = sa.middle.w != 0u;
-  Segment first = Segment(frame.cameraPosition.xyz, frame.cameraPosition.xyz, m.position, frame.cameraForward.xyz,
-                          m.normal, 0u, false, false, false);
+  vec3 camera = cameraPosition();
+  Segment first = Segment(camera, camera, m.position, cameraForward(), m.normal, 0u, false, false, false);
   VertexAdjoint c = noAdjoint(), x = noAdjoint(), y = noAdjoint(), unused = noAdjoint();
   segmentAdjoint(first, 0.0, lengthWeight, unused, c, x);
   if (sa.light.x != 0xffffffffu) {
     LightEnd l = lightEnd(sa.light);
-    Segment second = Segment(frame.cameraPosition.xyz, m.position, l.position, m.normal, l.normal, 0u, false, false, false);
+    Segment second = Segment(camera, m.position, l.position, m.normal, l.normal, 0u, false, false, false);
     segmentAdjoint(second, 0.0, lengthWeight, unused, x, y);
     scatterLightEnd(l, sa.light.x, y, 0.0);
   }
@@ -195,6 +195,9 @@ void traceConnections() {
   uint mask = rayQueues[3u * batch + path];
   rayQueues[3u * batch + path] = 0u;
   atomicAdd(counters[kCounterShadowRays], uint(bitCount(mask)));
+#ifdef VKTG_ADJOINT
+  setViewOfPath(paths[path]);  // the adjoint reads the camera and the lights as the path's view has them
+#endif
   // In slot order: the path's accumulator sees its contributions in the same order on every run.
   // Only the filled slots: a loop over all of them would run a connection's code, traversals
   // included, for every empty slot on a device that masks lanes rather than branching (a CPU).

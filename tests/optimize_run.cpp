@@ -161,9 +161,11 @@ TEST(OptimizeResume, InterruptedAndResumedRunsMatchAnUninterruptedOne) {
 TEST(OptimizeResume, RunInterruptedBeforeItsFirstIterationResumes) {
   TempDir dir;
   run(kData / "converge_heightfield.json", dir / "whole", 2);
-  expectInterrupted(dir / "parts", 2, "synthesising target above");
+  // Both targets render together (one render of two views): interrupted while rendering them.
+  expectInterrupted(dir / "parts", 2, "synthesising 2 targets at the truth: front, above");
   const Checkpoint start = readCheckpoint(dir / "parts" / "checkpoint.bin");
   EXPECT_EQ(start.iteration, 0u);
+  EXPECT_FALSE(fs::exists(dir / "parts" / "targets" / "front.exr")) << "a target cut short must not be kept";
   EXPECT_FALSE(fs::exists(dir / "parts" / "targets" / "above.exr")) << "a target cut short must not be kept";
   resume(dir / "parts", 2);
   EXPECT_EQ(rowsWithoutTime(dir / "parts" / "log.csv"), rowsWithoutTime(dir / "whole" / "log.csv"));

@@ -37,6 +37,7 @@ struct Gate {
   std::vector<double> jumpLocations() const;
   std::string describe() const;           // e.g. "box [3 m, 5 m]"
   std::string layerName(uint32_t layer) const;  // EXR layer name, e.g. "bin_012_3.000-3.100"
+  bool operator==(const Gate&) const = default;
 };
 
 inline constexpr double kGaussianCutoff = 6.5;  // W < 7e-10 beyond 6.5 sigma

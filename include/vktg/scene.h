@@ -64,6 +64,7 @@ struct RenderSettings {
   uint32_t rouletteDepth = 4;  // Russian roulette from this depth on (where the gate allows)
   uint32_t seed = 0;
   NeeMode nee = NeeMode::Auto;
+  bool operator==(const RenderSettings&) const = default;
 };
 
 struct Scene {

@@ -140,7 +140,7 @@ void scatterSurfaceAdjoint(uint triangle, vec2 uv, VertexAdjoint a, bool rayForm
   vec3 xBar = a.position;
   if (rayForm) {
     vec3 x = w0 * t.p0.xyz + uv.x * t.p1.xyz + uv.y * t.p2.xyz;
-    vec3 dir = normalize(x - frame.cameraPosition.xyz);
+    vec3 dir = normalize(x - cameraPosition());
     xBar = dot(xBar, dir) / dot(c, dir) * c;
   }
   float len = sqrt(c2);

@@ -5,26 +5,28 @@
 #define VKTG_CAMERA_GLSL
 
 // The camera's importance per unit solid angle for a ray leaving it along unit `dir`, and the
-// pixel it falls in (kNoPixel and 0 outside the image or behind the sensor). A pinhole pixel
+// pixel it falls in (kNoPixel and 0 outside the image or behind the sensor), in the current view
+// (lib/view.glsl). A pinhole pixel
 // averages radiance over its footprint on the image plane at distance 1 (area 4 |R| |U| / pixels,
 // solid angle cos^3 per unit area); the point sensor measures irradiance (cos per solid angle).
 float cameraImportance(vec3 dir, out uint pixel) {
   pixel = kNoPixel;
-  float c = dot(dir, frame.cameraForward.xyz);
+  float c = dot(dir, cameraForward());
   if (!(c > 0.0)) return 0.0;
   if (kSpecCameraTypeValue == kCameraPointSensor) {
-    pixel = 0u;
+    pixel = imagePixel(0u);
     return c;
   }
   vec3 q = dir / c;
-  vec3 r = frame.cameraRight.xyz, u = frame.cameraUp.xyz;
+  vec3 r = cameraRight(), u = cameraUp();
   float px = 0.5 * (dot(q, r) / dot(r, r) + 1.0);
   float py = 0.5 * (1.0 - dot(q, u) / dot(u, u));
   if (!(px >= 0.0 && px < 1.0 && py >= 0.0 && py < 1.0)) return 0.0;
-  uint x = min(uint(px * float(frame.image.x)), frame.image.x - 1u);
-  uint y = min(uint(py * float(frame.image.y)), frame.image.y - 1u);
-  pixel = y * frame.image.x + x;
-  return float(frame.image.x * frame.image.y) / (4.0 * length(r) * length(u) * c * c * c);
+  uint width = frame.image.x, height = frame.viewInfo.y;
+  uint x = min(uint(px * float(width)), width - 1u);
+  uint y = min(uint(py * float(height)), height - 1u);
+  pixel = imagePixel(y * width + x);
+  return float(width * height) / (4.0 * length(r) * length(u) * c * c * c);
 }
 
 #endif

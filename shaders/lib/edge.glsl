@@ -99,7 +99,7 @@ vec3 laneSurfaceVelocity(uint triangle, vec2 uv, uint lane) {
 vec3 laneRayFormVelocity(uint triangle, vec2 uv, uint lane) {
   GpuTriangle t = loadTriangle(triangle);
   vec3 x = (1.0 - uv.x - uv.y) * t.p0.xyz + uv.x * t.p1.xyz + uv.y * t.p2.xyz;
-  vec3 dir = normalize(x - frame.cameraPosition.xyz);
+  vec3 dir = normalize(x - cameraPosition());
   vec3 n = cross(t.p1.xyz - t.p0.xyz, t.p2.xyz - t.p0.xyz);
   return dot(n, laneSurfaceVelocity(triangle, uv, lane)) / dot(n, dir) * dir;
 }

@@ -34,7 +34,7 @@ bool sampleLight(vec3 u, out LightSample ls) {
   GpuLight light = lights[ls.index];
   ls.isPoint = sceneHasLightType(kLightPoint) && light.type == kLightPoint;
   if (ls.isPoint) {
-    ls.position = light.positionIntensity.xyz;
+    ls.position = pointLightPosition(ls.index, light.positionIntensity.xyz);
     ls.normal = vec3(0.0);
     ls.emission = light.positionIntensity.w;
     ls.pdf = light.pmf;

@@ -273,8 +273,8 @@ bool ellipsoidalNeeAt(uint depth, uint e) {
 // An emitter hit at vertex `depth` closes a path of `depth` segments.
 bool emitterHitCounts(uint depth, uint e) { return kSpecNeeModeValue == kNeeStandard || depth <= e + 1u; }
 
-void neeAtVertex(uint path, NeeVertex v, uint depth, uint pixel, uint sampleIndex) {
-  uint seed = frame.image.w;
+void neeAtVertex(uint path, NeeVertex v, uint depth, uint globalPixel, uint sampleIndex) {
+  uint seed = viewSeed(), pixel = viewPixel(globalPixel);  // random numbers keyed within the view
   v.depth = depth;
   if (kSpecTermValue != kTermInterior && depth >= v.firstEllipsoidVertex && depth + 2u <= frame.gateInfo.w) {
     // Every path an ellipsoidal connection can make, placed on a jump instead of sampled from W.

@@ -13,7 +13,11 @@
 // The frame block is a storage buffer, not a uniform buffer: lavapipe inlines the uniform-buffer
 // values its branches read and compiles, and keeps, a shader variant per distinct set of them, so a
 // uniform frame block grew the process by megabytes per render (tests/render_memory.cpp).
-layout(std430, set = 0, binding = kBindingFrame) readonly buffer FrameBlock { FrameUniforms frame; };
+// A render of several views appends a record per view (lib/view.glsl).
+layout(std430, set = 0, binding = kBindingFrame) readonly buffer FrameBlock {
+  FrameUniforms frame;
+  vec4 frameViews[];
+};
 
 #define VKTG_CHUNKS(Type, name, base)                                                      \
   layout(std430, set = 0, binding = base + 0) buffer name##Chunk0 { Type name##0[]; };     \
@@ -64,4 +68,5 @@ GpuBvhNode loadBvhNode(uint i) {
   if (c == 2u) return bvhNodes2[j];
   return bvhNodes3[j];
 }
+#include "lib/view.glsl"
 #endif

@@ -29,8 +29,8 @@ TapePoint tapePoint(uint depth, uint path) {
   p.uv = v.hit.yz;
   p.ior = v.hit.w;
   if (depth == 0u) {
-    p.position = frame.cameraPosition.xyz;
-    p.normal = frame.cameraForward.xyz;
+    p.position = cameraPosition();
+    p.normal = cameraForward();
     p.material = 0u;
     return p;
   }

@@ -159,12 +159,17 @@ void DeviceScene::uploadTables() {
   m_gpu->lights.upload(m_context, m_prepared.lights.data(), m_prepared.lights.size() * sizeof(gpu::GpuLight));
 }
 
-void DeviceScene::placePointLights(const std::vector<std::pair<uint32_t, glm::vec3>>& viewPositions) {
+std::vector<glm::vec3> DeviceScene::pointLightsFor(const std::vector<std::pair<uint32_t, glm::vec3>>& viewPositions) const {
   std::vector<glm::vec3> placed = m_lightsAtTheta;
   for (const auto& [light, position] : viewPositions) {
     if (light >= placed.size()) throw Error("internal: point light index out of range");
     placed[light] = position + (m_lightsAtTheta[light] - m_lightBase[light]);
   }
+  return placed;
+}
+
+void DeviceScene::placePointLights(const std::vector<std::pair<uint32_t, glm::vec3>>& viewPositions) {
+  const std::vector<glm::vec3> placed = pointLightsFor(viewPositions);
   bool changed = false;
   for (size_t i = 0; i < placed.size(); ++i)
     if (m_scene.pointLights[i].position != placed[i]) {

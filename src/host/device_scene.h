@@ -60,6 +60,9 @@ class DeviceScene {
   // at the view's position plus what the parameters move it by at the current θ; every other light
   // sits where θ puts it. Uploads only when a position changes.
   void placePointLights(const std::vector<std::pair<uint32_t, glm::vec3>>& viewPositions);
+  // Where placePointLights would put every point light for that view (scene order), without
+  // moving them: a render of several views gives each its own (Renderer::render).
+  std::vector<glm::vec3> pointLightsFor(const std::vector<std::pair<uint32_t, glm::vec3>>& viewPositions) const;
 
   std::span<const double> theta() const { return m_theta; }
   std::span<const double> buildTheta() const { return m_buildTheta; }

@@ -53,6 +53,10 @@ gpu::FrameUniforms sceneFrameUniforms(const Camera& cam, const RenderSettings& s
   f.chunkShift = glm::uvec4(gpuScene.triangles.shift, gpuScene.bvhNodes.shift, 31, 0);
   f.pathInfo = glm::uvec4(settings.rouletteDepth, 0, 1, 0);
   f.gateInfo = glm::uvec4(0, 1, 0, settings.maxDepth);
+  // One view; point lights follow the area lights in lights[] (prepareLights).
+  const auto pointLights = std::count_if(prepared.lights.begin(), prepared.lights.end(),
+                                         [](const gpu::GpuLight& l) { return l.type == gpu::kLightPoint; });
+  f.viewInfo = glm::uvec4(1, f.image.y, 0, uint32_t(prepared.lights.size() - size_t(pointLights)));
   return f;
 }
 

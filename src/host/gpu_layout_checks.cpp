@@ -11,7 +11,7 @@ static_assert(sizeof(GpuShape) == 16);
 static_assert(sizeof(GpuParameterOp) == 32);
 static_assert(sizeof(GpuMaterial) == 16);
 static_assert(sizeof(GpuLight) == 32 && offsetof(GpuLight, type) == 16);
-static_assert(sizeof(FrameUniforms) == 16 * 16 && offsetof(FrameUniforms, edgeInfo) == 12 * 16 &&
+static_assert(sizeof(FrameUniforms) == 17 * 16 && offsetof(FrameUniforms, edgeInfo) == 12 * 16 &&
               offsetof(FrameUniforms, adjointScale) == 15 * 16);
 static_assert(sizeof(GpuEdge) == 64);
 static_assert(sizeof(PathState) == 96 && offsetof(PathState, previous) == 80);

@@ -266,6 +266,30 @@ constexpr double kTargetBits = 40, kCoarsestBits = 24;
 // Renders of one gradient at most: scale corrections after overflow, all-zero or coarse sums.
 constexpr int kAttempts = 6;
 
+// Whether one render can hold both views (Renderer::render of RenderViews): the same gate, settings
+// but the seed, camera type and image size, and so the same plan.
+bool batchable(const AdjointView& a, const AdjointView& b) {
+  RenderSettings sa = a.setup.settings, sb = b.setup.settings;
+  sa.seed = sb.seed = 0;
+  return a.setup.gate == b.setup.gate && sa == sb && a.setup.camera.type == b.setup.camera.type &&
+         imagePixels(a.setup.camera) == imagePixels(b.setup.camera);
+}
+
+}  // namespace
+
+std::vector<std::vector<size_t>> viewGroups(const std::vector<AdjointView>& views, bool batch) {
+  std::vector<std::vector<size_t>> groups;
+  for (size_t v = 0; v < views.size(); ++v) {
+    auto fits = [&](const std::vector<size_t>& g) { return batch && batchable(views[g.front()], views[v]); };
+    auto it = std::find_if(groups.begin(), groups.end(), fits);
+    if (it == groups.end()) groups.push_back({v});
+    else it->push_back(v);
+  }
+  return groups;
+}
+
+namespace {
+
 double powerOfTwoScale(double largest, double scale) {
   return std::ldexp(scale, int(std::lround(kTargetBits - std::log2(std::max(largest, 1.0)))));
 }
@@ -291,9 +315,17 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
   const GradientLayout layout = gradientLayout(scene.scene(), scene.prepared());
   if (!state.accumulator || state.accumulator->layout().total != layout.total)
     state.accumulator = std::make_unique<GradientAccumulator>(context, layout);
+  // Views a render can hold together go in one group, each with its adjoint images stacked as
+  // the render stacks the views' images.
+  const std::vector<std::vector<size_t>> groups = viewGroups(views, options.batchViews);
   std::vector<Buffer> adjointBuffers;
-  for (const AdjointView& view : views) {
-    const std::vector<float> flat = view.adjoint->allPixels();
+  for (const std::vector<size_t>& group : groups) {
+    std::vector<float> flat;
+    for (size_t layer = 0; layer < views[group.front()].adjoint->layers.size(); ++layer)
+      for (size_t v : group) {
+        const std::vector<float>& pixels = views[v].adjoint->layers.at(layer).pixels;
+        flat.insert(flat.end(), pixels.begin(), pixels.end());
+      }
     adjointBuffers.emplace_back(context, std::max<size_t>(16, flat.size() * sizeof(float)), MemoryKind::Device, "adjoint.image");
     adjointBuffers.back().upload(context, flat.data(), flat.size() * sizeof(float));
   }
@@ -316,15 +348,21 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     state.accumulator->clear();
     RenderStats stats;
     result.passMilliseconds.clear();
-    for (size_t v = 0; v < views.size(); ++v) {
-      const AdjointView& view = views[v];
-      scene.placePointLights(view.lightPositions);
-      AdjointTarget target{&adjointBuffers[v], state.accumulator.get(), state.scale, targets};
-      for (TermPass pass : termPasses(plans[v], view.setup.gate, options, sharePaths[v])) {
-        RenderSetup termSetup = view.setup;
+    for (size_t g = 0; g < groups.size(); ++g) {
+      const std::vector<size_t>& group = groups[g];
+      const AdjointView& first = views[group.front()];
+      std::vector<RenderView> together;
+      if (group.size() > 1)
+        for (size_t v : group) together.push_back({views[v].setup.camera, views[v].setup.settings.seed, views[v].lightPositions});
+      else
+        scene.placePointLights(first.lightPositions);
+      AdjointTarget target{&adjointBuffers[g], state.accumulator.get(), state.scale, targets};
+      for (TermPass pass : termPasses(plans[group.front()], first.setup.gate, options, sharePaths[group.front()])) {
+        RenderSetup termSetup = first.setup;
         if (pass.spp > 0) termSetup.settings.spp = pass.spp;
         pass.options.adjoint = &target;
-        const RenderResult r = renderer.render(scene, termSetup, pass.options);
+        const RenderResult r = together.empty() ? renderer.render(scene, termSetup, pass.options)
+                                                : renderer.render(scene, termSetup, together, pass.options);
         addStats(stats, r.stats);
         for (const auto& [name, ms] : r.passMilliseconds) result.passMilliseconds[std::string(termName(pass.term)) + "/" + name] += ms;
       }

@@ -26,6 +26,9 @@ struct GradientOptions {
   // Loss gradients: the interior and per-pixel path-length-boundary terms from one trace of the
   // paths when both run at the same spp (false: a trace each, the same sum; for comparisons).
   bool sharePaths = true;
+  // Loss gradients: views that differ only in camera pose, point lights and seed render together,
+  // a render per term for all of them (false: a render per term and view; the same gradient).
+  bool batchViews = true;
 };
 
 // What the gradient planner runs and why.
@@ -92,6 +95,11 @@ struct AdjointView {
   std::vector<std::pair<uint32_t, glm::vec3>> lightPositions;  // point lights moved for this view
   const ImageSet* adjoint = nullptr;
 };
+
+// The views in groups that one render can hold (Renderer::render of RenderViews: the same gate,
+// settings but the seed, camera type and image size), each group in order; one view per group
+// unless `batch`.
+std::vector<std::vector<size_t>> viewGroups(const std::vector<AdjointView>& views, bool batch);
 
 // What persists between the gradients of an optimisation: the accumulators and their scale (chosen
 // from the previous gradient's magnitude, so the fixed point keeps about 40 bits below the largest

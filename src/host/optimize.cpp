@@ -66,6 +66,33 @@ TargetSetup targetSetup(const Experiment& e, size_t t) {
   return s;
 }
 
+// The image of every view at the current θ (AdjointView without its adjoint), the views that one
+// render can hold rendered together (viewGroups); `plans` receives each view's render plan.
+std::vector<ImageSet> renderViewImages(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
+                                       const RenderOptions& options, std::vector<RenderPlan>& plans) {
+  std::vector<ImageSet> images(views.size());
+  plans.assign(views.size(), {});
+  for (const std::vector<size_t>& group : viewGroups(views, true)) {
+    const AdjointView& first = views[group.front()];
+    if (group.size() == 1) {
+      scene.placePointLights(first.lightPositions);
+      RenderResult r = renderer.render(scene, first.setup, options);
+      images[group.front()] = std::move(r.mean);
+      plans[group.front()] = r.plan;
+      continue;
+    }
+    std::vector<RenderView> together;
+    for (size_t v : group) together.push_back({views[v].setup.camera, views[v].setup.settings.seed, views[v].lightPositions});
+    const RenderResult r = renderer.render(scene, first.setup, together, options);
+    const std::vector<ImageSet> split = splitViews(r.mean, group.size());
+    for (size_t k = 0; k < group.size(); ++k) {
+      images[group[k]] = split[k];
+      plans[group[k]] = r.plan;
+    }
+  }
+  return images;
+}
+
 // The gate as θ sees it is shifted by the optimised gate-centre parameters.
 double gateShift(const Experiment& e, const std::vector<double>& theta) {
   double shift = 0;
@@ -109,9 +136,12 @@ std::vector<std::string> logColumns(const Experiment& e) {
 void synthesizeTargets(VulkanContext& context, Renderer& renderer, const Experiment& e, const ParameterModel& model,
                        const fs::path& run, uint64_t memoryBudget,
                        const std::function<void(const std::string&)>& progress, std::vector<ImageSet>& images) {
-  std::optional<DeviceScene> truthScene;
   std::vector<double> truth;
   for (const ExperimentParameter& p : e.parameters) truth.push_back(p.truth.value_or(0.0));
+  // Targets rendered in an earlier run of this directory are read back; the others are rendered at
+  // the truth, those that one render can hold together (viewGroups).
+  std::vector<size_t> missing;
+  std::vector<AdjointView> views;
   for (size_t t = 0; t < e.targets.size(); ++t) {
     const Target& target = e.targets[t];
     if (!target.synthesize) continue;
@@ -120,18 +150,31 @@ void synthesizeTargets(VulkanContext& context, Renderer& renderer, const Experim
       images[t] = readExr(saved);
       continue;
     }
-    if (!truthScene) truthScene.emplace(context, model, truth, truth);
     TargetSetup s = targetSetup(e, t);
-    truthScene->placePointLights(s.lights);
     s.setup.gate = s.setup.gate.shifted(gateShift(e, truth));
     s.setup.settings.spp = target.synthesizeSpp;
     s.setup.settings.seed = target.synthesizeSeed;
-    if (progress) progress("synthesising target " + target.name + " at the truth (" + std::to_string(target.synthesizeSpp) + " spp)");
-    RenderOptions options;
-    options.memoryBudget = memoryBudget;
-    images[t] = renderer.render(*truthScene, s.setup, options).mean;
+    missing.push_back(t);
+    views.push_back({s.setup, s.lights, nullptr});
+  }
+  if (missing.empty()) return;
+  if (progress) {
+    std::string names;
+    for (size_t k = 0; k < missing.size() && k < 4; ++k) names += (k ? ", " : "") + e.targets[missing[k]].name;
+    if (missing.size() > 4) names += ", ...";
+    progress("synthesising " + std::to_string(missing.size()) + " target" + (missing.size() > 1 ? "s" : "") +
+             " at the truth: " + names);
+  }
+  DeviceScene truthScene(context, model, truth, truth);
+  RenderOptions options;
+  options.memoryBudget = memoryBudget;
+  std::vector<RenderPlan> plans;
+  std::vector<ImageSet> rendered = renderViewImages(renderer, truthScene, views, options, plans);
+  for (size_t k = 0; k < missing.size(); ++k) {
+    const size_t t = missing[k];
+    images[t] = std::move(rendered[k]);
     checkTargetImageFinite(e, t, images[t]);
-    writeExr(saved, images[t]);
+    writeExr(run / "targets" / (e.targets[t].name + ".exr"), images[t]);
   }
 }
 
@@ -289,24 +332,29 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       std::vector<ImageSet> adjointImages(e.targets.size());
       std::vector<AdjointView> views;
       double loss = 0;
+      std::vector<AdjointView> primalViews;
       for (size_t t = 0; t < e.targets.size(); ++t) {
         RenderSetup setup = setups[t].setup;
         setup.gate = setup.gate.shifted(shift);
-        scene.placePointLights(setups[t].lights);
         setup.settings.spp = e.budget.sppPrimal;
         setup.settings.seed = seedFor(e.seed, i, t, 0);
-        RenderResult primal = renderer.render(scene, setup, primalOptions);
+        primalViews.push_back({setup, setups[t].lights, nullptr});
+      }
+      std::vector<RenderPlan> plans;
+      const std::vector<ImageSet> primals = renderViewImages(renderer, scene, primalViews, primalOptions, plans);
+      for (size_t t = 0; t < e.targets.size(); ++t) {
         if (options.explain && !explained && options.progress)
-          options.progress("render plan (target " + e.targets[t].name + "):\n" + explainPlan(primal.plan));
-        losses[t] = imageLoss(e.loss, primal.mean, targets[t], e.targets[t].weight, &adjointImages[t]);
+          options.progress("render plan (target " + e.targets[t].name + "):\n" + explainPlan(plans[t]));
+        losses[t] = imageLoss(e.loss, primals[t], targets[t], e.targets[t].weight, &adjointImages[t]);
         loss += losses[t];
         if (i == 0) {
-          initialImages[t] = primal.mean;
-          writeExr(run / "images" / (e.targets[t].name + "_initial.exr"), primal.mean);
+          initialImages[t] = primals[t];
+          writeExr(run / "images" / (e.targets[t].name + "_initial.exr"), primals[t]);
         }
         if (i % e.imagesEvery == 0 || i + 1 == e.stop.iterations)
           writeImageStrip(run / "images" / (e.targets[t].name + "_" + std::to_string(i) + ".png"),
-                          {{"target", targets[t]}, {"initial", initialImages[t]}, {"iteration " + std::to_string(i), primal.mean}});
+                          {{"target", targets[t]}, {"initial", initialImages[t]}, {"iteration " + std::to_string(i), primals[t]}});
+        RenderSetup setup = primalViews[t].setup;
         setup.settings.spp = e.budget.sppInterior;
         setup.settings.seed = seedFor(e.seed, i, t, 1);
         views.push_back({setup, setups[t].lights, nullptr});

@@ -1,5 +1,6 @@
 #include "host/renderer.h"
 
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -136,6 +137,56 @@ RenderResult Renderer::render(const Scene& scene, const RenderOptions& options) 
 }
 
 RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup, const RenderOptions& options) {
+  return renderViews(deviceScene, setup, nullptr, options);
+}
+
+RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup, const std::vector<RenderView>& views,
+                              const RenderOptions& options) {
+  if (views.empty()) throw Error("internal: a render of several views needs at least one");
+  return renderViews(deviceScene, setup, &views, options);
+}
+
+std::vector<ImageSet> splitViews(const ImageSet& stacked, size_t views) {
+  if (views == 0 || stacked.height % views != 0) throw Error("internal: an image of views splits into equal parts");
+  const uint32_t height = stacked.height / uint32_t(views);
+  const size_t pixels = size_t(stacked.width) * height;
+  std::vector<ImageSet> out(views);
+  for (size_t v = 0; v < views; ++v) {
+    out[v].width = stacked.width;
+    out[v].height = height;
+    for (const ImageLayer& layer : stacked.layers) {
+      auto first = layer.pixels.begin() + ptrdiff_t(v * pixels);
+      out[v].layers.push_back({layer.name, std::vector<float>(first, first + ptrdiff_t(pixels))});
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// The frame block's view records (lib/view.glsl): per view its camera as FrameUniforms holds one,
+// its seed, and every point light where the view places it.
+std::vector<glm::vec4> viewRecords(const std::vector<RenderView>& views, const RenderSetup& setup,
+                                   const DeviceScene& scene, const GpuScene& gpuScene, uint32_t& stride) {
+  const size_t pointLights = scene.scene().pointLights.size();
+  stride = uint32_t(4 + pointLights);
+  std::vector<glm::vec4> records;
+  records.reserve(views.size() * stride);
+  for (const RenderView& view : views) {
+    if (view.camera.type != setup.camera.type || imagePixels(view.camera) != imagePixels(setup.camera))
+      throw Error("internal: the views of one render share the camera type and image size");
+    const gpu::FrameUniforms f = sceneFrameUniforms(view.camera, setup.settings, scene.prepared(), gpuScene);
+    records.push_back(glm::vec4(glm::vec3(f.cameraPosition), std::bit_cast<float>(view.seed)));
+    records.insert(records.end(), {f.cameraForward, f.cameraRight, f.cameraUp});
+    for (const glm::vec3& light : scene.pointLightsFor(view.lightPositions)) records.push_back(glm::vec4(light, 0.0f));
+  }
+  return records;
+}
+
+}  // namespace
+
+RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& setup,
+                                   const std::vector<RenderView>* views, const RenderOptions& options) {
   VulkanContext& context = m_impl->context;
   PassPipelines& pipelines = m_impl->pipelines;
   const PreparedScene& prepared = deviceScene.prepared();
@@ -154,7 +205,11 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   if (adjoint && (!adjoint->image || !adjoint->gradient || !deviceScene.model()))
     throw Error("internal: an adjoint render needs an adjoint image, accumulators and a parameter model");
   const bool derivative = lanes > 0 || adjoint;
-  const uint32_t width = imagePixels(setup.camera).x, height = imagePixels(setup.camera).y;
+  // Several views stack their images: `height` counts the rows of all of them.
+  const uint32_t viewCount = views ? uint32_t(views->size()) : 1u;
+  const uint32_t width = imagePixels(setup.camera).x, viewHeight = imagePixels(setup.camera).y;
+  if (uint64_t(viewHeight) * viewCount >= (uint64_t(1) << 31)) throw Error("render: too many views for one render");
+  const uint32_t height = viewHeight * viewCount;
   const uint64_t pixels = uint64_t(width) * height;
   // The edge term counts edge samples (each owns two path slots); the others count paths.
   const uint64_t totalPaths = pixels * settings.spp;
@@ -250,16 +305,26 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   frame.pathInfo = glm::uvec4(settings.rouletteDepth, plan.firstEllipsoidVertex, channels, batchSize);
   frame.chunkShift.z = film.shift;
   frame.edgeInfo = glm::uvec4(edgeCount, edges ? uint32_t(totalPaths) : 0u, 0, 0);
-  // resolve divides by the samples every pixel's sums saw: a splatted sample counts in every pixel.
-  if (splat) frame.image.z = uint32_t(totalPaths);
+  // resolve divides by the samples every pixel's sums saw: a splatted sample counts in every pixel
+  // of its view.
+  if (splat) frame.image.z = uint32_t(totalPaths / viewCount);
+  std::vector<glm::vec4> records;
+  if (views) {
+    uint32_t stride = 0;
+    records = viewRecords(*views, setup, deviceScene, gpuScene, stride);
+    frame.image.y = height;
+    frame.viewInfo.x = viewCount;
+    frame.viewInfo.z = stride;
+  }
   if (adjoint) {
     const GradientLayout& g = adjoint->gradient->layout();
     frame.gradientLayout = glm::uvec4(g.materials, g.emission, g.lights, g.vertices);
     frame.adjointInfo = glm::uvec4(g.firstPointLight, 0, 0, 0);
     frame.adjointScale = glm::vec4(float(adjoint->scale), 0, 0, 0);
   }
-  Buffer frameBuffer(context, sizeof frame, MemoryKind::Device, "frame");
+  Buffer frameBuffer(context, sizeof frame + records.size() * sizeof(glm::vec4), MemoryKind::Device, "frame");
   frameBuffer.upload(context, &frame, sizeof frame);
+  frameBuffer.upload(context, records.data(), records.size() * sizeof(glm::vec4), sizeof frame);
 
   BindingTable table;
   table.setScene(gpuScene);
@@ -310,6 +375,7 @@ RenderResult Renderer::render(DeviceScene& deviceScene, const RenderSetup& setup
   spec[gpu::kSpecSceneTexels] = gpuScene.texels() ? 1u : 0u;
   spec[gpu::kSpecWaveTexels] = waveTexels ? 1u : 0u;
   spec[gpu::kSpecWideBvh] = gpuScene.wideBvh() ? 1u : 0u;
+  spec[gpu::kSpecMultiView] = views ? 1u : 0u;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";

@@ -65,6 +65,19 @@ struct RenderOptions {
 
 inline constexpr uint32_t kMaxDerivativeLanes = 4;
 
+// One view of a render that holds several (the scan points of a capture, the targets of an
+// optimisation): its camera pose, its random numbers and the point lights it moves. The camera's
+// type and image size are the render's. Each view gets the rows of one tall image that it would get
+// rendered alone (splitViews), and a batch of views costs one render's passes instead of one per view.
+struct RenderView {
+  Camera camera;
+  uint32_t seed = 0;
+  std::vector<std::pair<uint32_t, glm::vec3>> lightPositions;  // point lights moved for this view
+};
+
+// The image of each view of a render of `views` views (RenderView), from the rows it was given.
+std::vector<ImageSet> splitViews(const ImageSet& stacked, size_t views);
+
 struct RenderStats {
   uint64_t paths = 0;
   uint64_t extensionRays = 0, shadowRays = 0;
@@ -101,11 +114,18 @@ class Renderer {
   ~Renderer();
   // A render of `scene` as `setup` sees it.
   RenderResult render(DeviceScene& scene, const RenderSetup& setup, const RenderOptions& options);
+  // One render of several views of `scene`: `setup` gives the gate, the settings (but the seed), the
+  // camera type and the image size; every view, the same. Its images hold the views' images one
+  // below the other (splitViews); its adjoint image, likewise.
+  RenderResult render(DeviceScene& scene, const RenderSetup& setup, const std::vector<RenderView>& views,
+                      const RenderOptions& options);
   // A render of a scene uploaded for this render alone.
   RenderResult render(const Scene& scene, const RenderOptions& options);
   VulkanContext& context() const;
 
  private:
+  RenderResult renderViews(DeviceScene& scene, const RenderSetup& setup, const std::vector<RenderView>* views,
+                           const RenderOptions& options);
   struct Impl;
   std::unique_ptr<Impl> m_impl;
 };

@@ -178,7 +178,8 @@ VKTG_CONST(uint, kSpecSingleChunk, 11);  // 1: triangles, BVH nodes and film eac
 VKTG_CONST(uint, kSpecSceneTexels, 12);  // 1: triangle and BVH node loads through the texel bindings
 VKTG_CONST(uint, kSpecWaveTexels, 13);   // 1: path-state and hit loads through the texel bindings
 VKTG_CONST(uint, kSpecWideBvh, 14);      // 1: closest- and any-hit traversal over the 4-wide BVH
-VKTG_CONST(uint, kSpecCount, 15);
+VKTG_CONST(uint, kSpecMultiView, 15);    // 1: several views in one render (FrameUniforms.viewInfo, lib/view.glsl)
+VKTG_CONST(uint, kSpecCount, 16);
 
 // How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
 VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
@@ -322,6 +323,10 @@ struct FrameUniforms {
   uvec4 gradientLayout;
   uvec4 adjointInfo;      // x: index of the first point light in the lights array, y-w unused
   vec4 adjointScale;      // x: accumulators hold round(value * x) (a power of two), y-w unused
+  // A render of several views (kSpecMultiView; lib/view.glsl): x views, y image rows of one view
+  // (image.y counts the rows of all of them, stacked), z vec4s per view record in the frame block's
+  // view array, w lights[] index of the first point light. One view: (1, image.y, 0, -).
+  uvec4 viewInfo;
 };
 
 struct GpuLane {
@@ -335,7 +340,7 @@ struct PathState {
   vec4 direction;   // xyz: direction of the next segment; w: Kahan compensation of the length
   vec4 normal;      // xyz: geometric normal at the vertex; w: throughput (f cos / pdf products)
   vec4 misc;        // x: solid-angle pdf of the last BSDF sample (MIS); y: IOR of the medium the
-                    // next segment travels in; z, w: unused
+                    // next segment travels in; z: the path's view (uint bits, lib/view.glsl); w: unused
   uvec4 ids;        // x: pixel, y: sample index, z: depth (vertices after x0), w: flags
   vec4 previous;    // xyz: the vertex before the current one; w: triangle of the current vertex
                     // (uint bits; ~0 at the camera or sensor). Derivative passes read them.
