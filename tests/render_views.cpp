@@ -180,7 +180,7 @@ TEST(RenderViews, PinholeLossGradientAsOneByOne) {
 }
 
 // Only views that one render can hold go together: the same gate, settings but the seed, camera
-// type and image size. Groups keep the views' order.
+// type and image size, up to 2^20 pixels. Groups keep the views' order.
 TEST(RenderViews, GroupsHoldOnlyViewsThatRenderTogether) {
   const Scene scene = pinholeScene();
   auto view = [&](auto change) {
@@ -200,6 +200,10 @@ TEST(RenderViews, GroupsHoldOnlyViewsThatRenderTogether) {
   const std::vector<std::vector<size_t>> expected = {{0, 1, 6}, {2}, {3}, {4}, {5}};
   EXPECT_EQ(viewGroups(views, true), expected);
   EXPECT_EQ(viewGroups(views, false).size(), views.size());
+  // A group holds at most 2^20 pixels: 1024 x 512 images go two by two.
+  std::vector<AdjointView> large(5, view([](RenderSetup& s) { s.camera.width = 1024, s.camera.height = 512; }));
+  const std::vector<std::vector<size_t>> pairs = {{0, 1}, {2, 3}, {4}};
+  EXPECT_EQ(viewGroups(large, true), pairs);
 }
 
 }  // namespace

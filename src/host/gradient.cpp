@@ -278,9 +278,16 @@ bool batchable(const AdjointView& a, const AdjointView& b) {
 }  // namespace
 
 std::vector<std::vector<size_t>> viewGroups(const std::vector<AdjointView>& views, bool batch) {
+  // Views together save fixed costs, which matter for small images only; a cap on a group's pixels
+  // keeps its sample counts within a render's limits wherever one view's are.
+  constexpr uint64_t kGroupPixels = uint64_t(1) << 20;
   std::vector<std::vector<size_t>> groups;
   for (size_t v = 0; v < views.size(); ++v) {
-    auto fits = [&](const std::vector<size_t>& g) { return batch && batchable(views[g.front()], views[v]); };
+    const glm::uvec2 size = imagePixels(views[v].setup.camera);
+    const uint64_t room = std::max<uint64_t>(1, kGroupPixels / (uint64_t(size.x) * size.y));
+    auto fits = [&](const std::vector<size_t>& g) {
+      return batch && g.size() < room && batchable(views[g.front()], views[v]);
+    };
     auto it = std::find_if(groups.begin(), groups.end(), fits);
     if (it == groups.end()) groups.push_back({v});
     else it->push_back(v);

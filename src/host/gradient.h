@@ -97,8 +97,8 @@ struct AdjointView {
 };
 
 // The views in groups that one render can hold (Renderer::render of RenderViews: the same gate,
-// settings but the seed, camera type and image size), each group in order; one view per group
-// unless `batch`.
+// settings but the seed, camera type and image size; at most 2^20 pixels in all), each group in
+// order; one view per group unless `batch`.
 std::vector<std::vector<size_t>> viewGroups(const std::vector<AdjointView>& views, bool batch);
 
 // What persists between the gradients of an optimisation: the accumulators and their scale (chosen
