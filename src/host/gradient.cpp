@@ -295,6 +295,17 @@ std::vector<std::vector<size_t>> viewGroups(const std::vector<AdjointView>& view
   return groups;
 }
 
+RenderResult renderGroup(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
+                         const std::vector<size_t>& group, const RenderSetup& setup, const RenderOptions& options) {
+  if (group.size() == 1) {
+    scene.placePointLights(views[group.front()].lightPositions);
+    return renderer.render(scene, setup, options);
+  }
+  std::vector<RenderView> together;
+  for (size_t v : group) together.push_back({views[v].setup.camera, views[v].setup.settings.seed, views[v].lightPositions});
+  return renderer.render(scene, setup, together, options);
+}
+
 namespace {
 
 double powerOfTwoScale(double largest, double scale) {
@@ -358,18 +369,12 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     for (size_t g = 0; g < groups.size(); ++g) {
       const std::vector<size_t>& group = groups[g];
       const AdjointView& first = views[group.front()];
-      std::vector<RenderView> together;
-      if (group.size() > 1)
-        for (size_t v : group) together.push_back({views[v].setup.camera, views[v].setup.settings.seed, views[v].lightPositions});
-      else
-        scene.placePointLights(first.lightPositions);
       AdjointTarget target{&adjointBuffers[g], state.accumulator.get(), state.scale, targets};
       for (TermPass pass : termPasses(plans[group.front()], first.setup.gate, options, sharePaths[group.front()])) {
         RenderSetup termSetup = first.setup;
         if (pass.spp > 0) termSetup.settings.spp = pass.spp;
         pass.options.adjoint = &target;
-        const RenderResult r = together.empty() ? renderer.render(scene, termSetup, pass.options)
-                                                : renderer.render(scene, termSetup, together, pass.options);
+        const RenderResult r = renderGroup(renderer, scene, views, group, termSetup, pass.options);
         addStats(stats, r.stats);
         for (const auto& [name, ms] : r.passMilliseconds) result.passMilliseconds[std::string(termName(pass.term)) + "/" + name] += ms;
       }

@@ -101,6 +101,13 @@ struct AdjointView {
 // order; one view per group unless `batch`.
 std::vector<std::vector<size_t>> viewGroups(const std::vector<AdjointView>& views, bool batch);
 
+// One render of the views `group` of `views` (a group of viewGroups): `setup` gives the gate and
+// settings, each view its camera, seed and point lights. A group of one is a plain one-view render
+// of `setup` with the view's point lights placed; its image is the view's, where a larger group's
+// stacks them (splitViews).
+RenderResult renderGroup(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
+                         const std::vector<size_t>& group, const RenderSetup& setup, const RenderOptions& options);
+
 // What persists between the gradients of an optimisation: the accumulators and their scale (chosen
 // from the previous gradient's magnitude, so the fixed point keeps about 40 bits below the largest
 // entry; it is part of a checkpoint).

@@ -73,17 +73,7 @@ std::vector<ImageSet> renderViewImages(Renderer& renderer, DeviceScene& scene, c
   std::vector<ImageSet> images(views.size());
   plans.assign(views.size(), {});
   for (const std::vector<size_t>& group : viewGroups(views, true)) {
-    const AdjointView& first = views[group.front()];
-    if (group.size() == 1) {
-      scene.placePointLights(first.lightPositions);
-      RenderResult r = renderer.render(scene, first.setup, options);
-      images[group.front()] = std::move(r.mean);
-      plans[group.front()] = r.plan;
-      continue;
-    }
-    std::vector<RenderView> together;
-    for (size_t v : group) together.push_back({views[v].setup.camera, views[v].setup.settings.seed, views[v].lightPositions});
-    const RenderResult r = renderer.render(scene, first.setup, together, options);
+    const RenderResult r = renderGroup(renderer, scene, views, group, views[group.front()].setup, options);
     const std::vector<ImageSet> split = splitViews(r.mean, group.size());
     for (size_t k = 0; k < group.size(); ++k) {
       images[group[k]] = split[k];
