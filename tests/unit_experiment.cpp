@@ -180,6 +180,9 @@ const BadCase kCases[] = {
     {"beta2 for sgd", [](json& j) { j["optimizer"]["type"] = "sgd"; j["optimizer"]["beta2"] = 0.9; }, "optimizer.beta2",
      "unknown field"},
     {"beta1 of one", [](json& j) { j["optimizer"]["beta1"] = 1; }, "optimizer.beta1", "out of range"},
+    {"uniform for sgd", [](json& j) { j["optimizer"]["type"] = "sgd"; j["optimizer"]["uniform"] = true; }, "optimizer.uniform",
+     "unknown field"},
+    {"uniform not a boolean", [](json& j) { j["optimizer"]["uniform"] = 1; }, "optimizer.uniform", "wrong type"},
     {"negative momentum", [](json& j) { j["optimizer"] = {{"type", "sgd"}, {"momentum", -0.1}, {"groups", {{"heights", {{"learning_rate", 1}}}}}}; },
      "optimizer.momentum", "out of range"},
     {"zero adam epsilon", [](json& j) { j["optimizer"]["epsilon"] = 0; }, "optimizer.epsilon", "out of range"},
@@ -346,6 +349,7 @@ TEST(Experiment, CompleteExampleParsesFieldByField) {
   EXPECT_EQ(o.beta1, 0.8);
   EXPECT_EQ(o.beta2, 0.99);
   EXPECT_EQ(o.epsilon, 1e-6);
+  EXPECT_TRUE(o.uniform);
   using Rates = std::vector<std::pair<std::string, double>>;
   EXPECT_EQ(o.groupRates, (Rates{{"calibration", 0.001}, {"heights", 0.002}}));
   EXPECT_EQ(o.schedule.type, ScheduleType::Step);
@@ -412,6 +416,7 @@ TEST(Experiment, DefaultsOfAMinimalFile) {
   EXPECT_EQ(x.optimizer.learningRate, 1e-2);
   EXPECT_EQ(x.optimizer.beta1, 0.9);
   EXPECT_EQ(x.optimizer.beta2, 0.999);
+  EXPECT_FALSE(x.optimizer.uniform);
   EXPECT_EQ(x.optimizer.schedule.type, ScheduleType::Constant);
   EXPECT_TRUE(x.regularizers.empty());
   EXPECT_FALSE(x.preconditioner);

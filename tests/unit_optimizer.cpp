@@ -67,6 +67,28 @@ TEST(Optimizer, AdamFirstStepIsTheLearningRateWhateverTheGradientScale) {
   }
 }
 
+// Uniform Adam divides by the largest second moment of the group, so the step keeps the gradient's
+// shape: lr 0.1, gradients 1 and 0.1 in one group: v^ = g^2 on the first step, normalised by 1.
+// A parameter of another group is normalised by its own group's moments.
+TEST(Optimizer, UniformAdamDividesByTheGroupsLargestSecondMoment) {
+  OptimizerSpec spec = adam(0.1);
+  spec.uniform = true;
+  spec.groupRates = {{"other", 0.2}};
+  std::vector<ExperimentParameter> ps = parameters(3);
+  ps[2].group = "other";
+  Optimizer optimizer(spec, ps);
+  std::vector<double> theta{0.0, 0.0, 0.0};
+  optimizer.step(theta, {1.0, 0.1, 0.01});
+  EXPECT_NEAR(theta[0], -0.1, 1e-9);
+  EXPECT_NEAR(theta[1], -0.01, 1e-9);
+  EXPECT_NEAR(theta[2], -0.2, 1e-6);  // alone in its group: the plain Adam step, the rate
+  // Per-parameter Adam would move both of the first group by the rate.
+  Optimizer plain(adam(0.1), parameters(2));
+  std::vector<double> same{0.0, 0.0};
+  plain.step(same, {1.0, 0.1});
+  EXPECT_NEAR(same[1], -0.1, 1e-7);  // epsilon 1e-8 against |g| = 0.1
+}
+
 TEST(Optimizer, SgdWithMomentumByHand) {
   // v = 0.9 v + g, theta -= 0.1 v: v = 0.5, -0.55, -0.495; theta = 0.95, 1.005, 1.0545.
   Optimizer optimizer(sgd(0.1, 0.9), parameters(1));
@@ -167,7 +189,9 @@ TEST(Optimizer, StepsAreProjectedOntoEachParametersRange) {
 }
 
 TEST(Optimizer, RestoredStateContinuesBitForBit) {
-  for (const OptimizerSpec& spec : {adam(0.05), sgd(0.05, 0.8)}) {
+  OptimizerSpec uniform = adam(0.05);
+  uniform.uniform = true;
+  for (const OptimizerSpec& spec : {adam(0.05), uniform, sgd(0.05, 0.8)}) {
     Optimizer uninterrupted(spec, parameters(3));
     std::vector<double> theta{0.1, -0.2, 0.3};
     auto gradient = [](int i) { return std::vector<double>{std::sin(i), std::cos(3.0 * i), 1.0 / (i + 1)}; };

@@ -354,7 +354,7 @@ class ExperimentParser {
   void parseOptimizer(const JsonValue& value) {
     const std::string type = typeOf(value, {"adam", "sgd"});
     std::vector<std::string_view> allowed = {"type", "learning_rate", "groups", "schedule"};
-    if (type == "adam") allowed.insert(allowed.end(), {"beta1", "beta2", "epsilon"});
+    if (type == "adam") allowed.insert(allowed.end(), {"beta1", "beta2", "epsilon", "uniform"});
     else allowed.push_back("momentum");
     const JsonObject o(value, allowed);
     OptimizerSpec& spec = m_x.optimizer;
@@ -365,6 +365,7 @@ class ExperimentParser {
     spec.momentum = unitInterval(o, "momentum", spec.momentum);
     spec.epsilon = o.number("epsilon", spec.epsilon);
     if (o.has("epsilon")) requireAbove(o.field("epsilon"), spec.epsilon, 0.0);
+    spec.uniform = o.boolean("uniform", spec.uniform);
     if (o.has("groups")) {
       const JsonValue groups = o.field("groups");
       if (!groups.json().is_object()) groups.fail("wrong type: expected an object mapping group names to {\"learning_rate\": ...}");

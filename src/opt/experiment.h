@@ -70,6 +70,9 @@ struct OptimizerSpec {
   double learningRate = 1e-2;       // of the group "default"
   std::vector<std::pair<std::string, double>> groupRates;  // other groups: name -> learning rate
   double beta1 = 0.9, beta2 = 0.999, epsilon = 1e-8;       // Adam
+  // Adam: divide by the largest second moment of the parameter's learning-rate group instead of its
+  // own (Nicolet et al. 2021's "uniform Adam"), so that a group's step keeps its gradient's shape.
+  bool uniform = false;
   double momentum = 0.9;            // SGD
   ScheduleSpec schedule;
 };

@@ -39,14 +39,17 @@ Optimizer::Optimizer(const OptimizerSpec& spec, const std::vector<ExperimentPara
   m_baseRates.reserve(parameters.size());
   for (const ExperimentParameter& p : parameters) {
     double rate = spec.learningRate;
+    size_t group = 0;
     if (p.group != "default") {
-      const auto group = std::find_if(spec.groupRates.begin(), spec.groupRates.end(),
-                                      [&](const auto& entry) { return entry.first == p.group; });
-      if (group == spec.groupRates.end())
+      const auto entry = std::find_if(spec.groupRates.begin(), spec.groupRates.end(),
+                                      [&](const auto& e) { return e.first == p.group; });
+      if (entry == spec.groupRates.end())
         fail("", "optimizer.groups", "parameter \"" + p.name + "\" is in group \"" + p.group + "\", which has no learning rate");
-      rate = group->second;
+      rate = entry->second;
+      group = 1 + size_t(entry - spec.groupRates.begin());
     }
     m_baseRates.push_back(rate);
+    m_groupOf.push_back(group);
   }
   m_state.first.assign(parameters.size(), 0.0);
   if (spec.type == OptimizerType::Adam) m_state.second.assign(parameters.size(), 0.0);
@@ -72,6 +75,13 @@ void Optimizer::step(std::vector<double>& theta, const std::vector<double>& grad
   const double firstCorrection = 1.0 - std::pow(m_spec.beta1, t);
   const double secondCorrection = 1.0 - std::pow(m_spec.beta2, t);
   const bool adam = m_spec.type == OptimizerType::Adam;
+  // Uniform Adam: each group's largest second moment after this step, the normaliser of all of it.
+  std::vector<double> groupSecond(m_spec.groupRates.size() + 1, 0.0);
+  if (adam && m_spec.uniform)
+    for (size_t i = 0; i < count; ++i) {
+      const double v = m_spec.beta2 * m_state.second[i] + (1.0 - m_spec.beta2) * gradient[i] * gradient[i];
+      groupSecond[m_groupOf[i]] = std::max(groupSecond[m_groupOf[i]], v);
+    }
   // One parameter's step: its moments and value, updated in place.
   auto stepOne = [&](size_t i, double& m, double& v, double& value) {
     const double rate = m_baseRates[i] * factor;
@@ -79,7 +89,7 @@ void Optimizer::step(std::vector<double>& theta, const std::vector<double>& grad
       m = m_spec.beta1 * m + (1.0 - m_spec.beta1) * gradient[i];
       v = m_spec.beta2 * v + (1.0 - m_spec.beta2) * gradient[i] * gradient[i];
       const double mHat = m / firstCorrection;
-      const double vHat = v / secondCorrection;
+      const double vHat = (m_spec.uniform ? groupSecond[m_groupOf[i]] : v) / secondCorrection;
       value -= rate * mHat / (std::sqrt(vHat) + m_spec.epsilon);
     } else {
       m = m_spec.momentum * m + gradient[i];

@@ -1,5 +1,6 @@
 // First-order optimisers on the parameter vector θ (double precision, on the host): Adam and SGD
-// with momentum, a learning rate per parameter group, a schedule, and projection onto each
+// with momentum (Adam optionally uniform over each group), a learning rate per parameter group, a
+// schedule, and projection onto each
 // parameter's valid range after every step. The state serialises exactly (checkpoints).
 #pragma once
 #include <cstdint>
@@ -30,6 +31,7 @@ class Optimizer {
   OptimizerSpec m_spec;
   std::vector<ExperimentParameter> m_parameters;
   std::vector<double> m_baseRates;
+  std::vector<size_t> m_groupOf;  // learning-rate group of each parameter (0: "default"), for uniform Adam
   OptimizerState m_state;
 };
 
