@@ -2,7 +2,8 @@
 // hidden heights recovered from an 8 x 8 scan of transients on a relay wall, starting flat. Asserts
 // the documented outcome: the parameter error (RMS over the heights, median of the last 10
 // iterations) falls below a stated fraction of the start. The run with 4x wider bins is not run
-// here: it ends worse, but by less than the spread of a shortened run.
+// here: it ends worse, but by less than the spread of a shortened run. Also that the run draws its
+// transients as one scan figure.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -25,6 +26,11 @@ TEST(ExperimentConfocalScan, HiddenSurfaceRecoveredFromARelayWallScan) {
   test::TempDir dir;
   const test::Recovery r = test::runRecovery(kExperiment / "fine_bins.experiment.json", dir.path() / "fine", kIterations);
   EXPECT_LT(r.end, kBound * r.start);
+  // The 64 transients are drawn together (src/opt/target_figures.h), not one figure per point.
+  const fs::path images = dir.path() / "fine" / "images";
+  EXPECT_TRUE(fs::exists(images / "transients" / "0.png"));
+  EXPECT_TRUE(fs::exists(images / "transients" / (std::to_string(kIterations - 1) + ".png")));
+  EXPECT_FALSE(fs::exists(images / "scan_0_0_0.png"));
 }
 
 }  // namespace

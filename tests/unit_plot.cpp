@@ -1,5 +1,7 @@
-// Figures of a run: line plots, image strips and heightfield comparisons, decoded back from PNG to
-// check sizes, where a series' pixels land on linear and log axes, shared exposures and colours.
+// Figures of a run: line plots, image strips, scans of transients and heightfield comparisons,
+// decoded back from PNG to check sizes, where a series' pixels land on linear and log axes, shared
+// exposures and colours.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -253,6 +255,59 @@ TEST_F(Plots, ImageStripRejectsMalformedImages) {
   const fs::path path = m_dir / "strip.png";
   expectError([&] { writeImageStrip(path, {{"broken", broken}}); }, {path.string(), "pixels"});
   expectError([&] { writeImageStrip(path, {}); }, {path.string(), "at least one image"});
+  EXPECT_FALSE(fs::exists(path));
+}
+
+// The first row from the top whose non-white runs are `count` panels of `width` pixels.
+int firstPanelRow(const DecodedPng& png, size_t count, int width) {
+  for (int y = 0; y < png.height; ++y) {
+    const std::vector<std::pair<int, int>> runs = tilesInRow(png, y);
+    if (runs.size() == count && std::all_of(runs.begin(), runs.end(), [&](auto r) { return r.second == width; })) return y;
+  }
+  return -1;
+}
+
+TEST_F(Plots, TransientScanRowsAreScanPointsAndTheDifferenceHasItsSign) {
+  // Two scan points of four bins: the current render is above the target on the first, below on
+  // the second.
+  const std::vector<float> target(8, 0.5f);
+  std::vector<float> current = {1, 1, 1, 1, 0.25f, 0.25f, 0.25f, 0.25f};
+  writeTransientScan(m_dir / "scan.png", 2, 4, {{"target", target}, {"now", current}}, 1.0, 1.4);
+  const DecodedPng png = decodePng(m_dir / "scan.png");
+  // Bins and rows are magnified to 128 pixels: 32 per bin, 64 per scan point; the difference is a
+  // third panel.
+  const int top = firstPanelRow(png, 3, 128);
+  ASSERT_GE(top, 0);
+  const std::vector<std::pair<int, int>> panels = tilesInRow(png, top);
+  const int first = top + 32, second = top + 96;
+  EXPECT_EQ(tilesInRow(png, top + 127).size(), 3u);
+  EXPECT_EQ(tilesInRow(png, top + 128).size(), 0u) << "two rows of 64 pixels";
+  const uint8_t targetGrey = png.at(panels[0].first + 64, first)[0];
+  EXPECT_EQ(png.at(panels[0].first + 64, second)[0], targetGrey);
+  EXPECT_GT(png.at(panels[1].first + 64, first)[0], targetGrey + 30) << "one exposure for both panels";
+  EXPECT_LT(png.at(panels[1].first + 64, second)[0] + 30, targetGrey);
+  const uint8_t* above = png.at(panels[2].first + 64, first);
+  const uint8_t* below = png.at(panels[2].first + 64, second);
+  EXPECT_GT(above[0], above[2] + 50) << "red where the current render is above the target";
+  EXPECT_GT(below[2], below[0] + 50) << "blue where it is below";
+}
+
+TEST_F(Plots, LongScansAreAveragedInBlocksOfRows) {
+  // 1030 scan points of 3 bins: blocks of 3 rows (344 rows shown), bins magnified to 42 pixels.
+  writeTransientScan(m_dir / "long.png", 1030, 3, {{"target", std::vector<float>(3090, 1.0f)}}, 0.0, 3.0);
+  const DecodedPng png = decodePng(m_dir / "long.png");
+  const int top = firstPanelRow(png, 1, 126);
+  ASSERT_GE(top, 0);
+  int rows = 0;
+  while (top + rows < png.height && tilesInRow(png, top + rows).size() == 1 && tilesInRow(png, top + rows)[0].second == 126) ++rows;
+  EXPECT_EQ(rows, 344);
+}
+
+TEST_F(Plots, TransientScanErrors) {
+  const fs::path path = m_dir / "scan.png";
+  expectError([&] { writeTransientScan(path, 2, 4, {{"target", std::vector<float>(7)}}, 0, 1); },
+              {path.string(), "panel \"target\"", "7 values for 2 x 4"});
+  expectError([&] { writeTransientScan(path, 2, 4, {}, 0, 1); }, {path.string(), "panels"});
   EXPECT_FALSE(fs::exists(path));
 }
 

@@ -17,10 +17,10 @@
 #include "opt/experiment.h"
 #include "opt/loss.h"
 #include "opt/optimizer.h"
-#include "opt/plot.h"
 #include "opt/regularizer.h"
 #include "opt/run_directory.h"
 #include "opt/run_files.h"
+#include "opt/target_figures.h"
 #include "vktg/error.h"
 #include "vktg/parameter_model.h"
 
@@ -341,13 +341,16 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
           initialImages[t] = primals[t];
           writeExr(run / "images" / (e.targets[t].name + "_initial.exr"), primals[t]);
         }
-        if (i % e.imagesEvery == 0 || i + 1 == e.stop.iterations)
-          writeImageStrip(run / "images" / (e.targets[t].name + "_" + std::to_string(i) + ".png"),
-                          {{"target", targets[t]}, {"initial", initialImages[t]}, {"iteration " + std::to_string(i), primals[t]}});
         RenderSetup setup = primalViews[t].setup;
         setup.settings.spp = e.budget.sppInterior;
         setup.settings.seed = seedFor(e.seed, i, t, 1);
         views.push_back({setup, setups[t].lights, nullptr});
+      }
+      if (i % e.imagesEvery == 0 || i + 1 == e.stop.iterations) {
+        std::vector<TargetImages> figures;
+        for (size_t t = 0; t < e.targets.size(); ++t)
+          figures.push_back({e.targets[t].name, setups[t].setup.gate, &targets[t], &initialImages[t], &primals[t]});
+        writeTargetFigures(run / "images", i, figures);
       }
       if (initialLoss.empty()) initialLoss = losses;
       for (size_t t = 0; t < views.size(); ++t) views[t].adjoint = &adjointImages[t];

@@ -314,6 +314,88 @@ void writeImageStrip(const fs::path& path, const std::vector<std::pair<std::stri
   canvas.writePng(path);
 }
 
+void writeTransientScan(const fs::path& path, uint32_t rows, uint32_t bins,
+                        const std::vector<std::pair<std::string, std::vector<float>>>& panels, double firstLength,
+                        double lastLength) {
+  if (panels.empty() || rows == 0 || bins == 0) fail(path.string(), "", "a scan figure needs panels of at least one value");
+  for (const auto& [caption, values] : panels)
+    if (values.size() != size_t(rows) * bins)
+      fail(path.string(), "panel \"" + caption + "\"",
+           std::to_string(values.size()) + " values for " + std::to_string(rows) + " x " + std::to_string(bins));
+  // Each axis on its own: bins and scan points are magnified or averaged in blocks independently.
+  auto scale = [](uint32_t n, uint32_t& shrink, uint32_t& magnify, uint32_t& shown) {
+    shrink = (n + kStripMaxTile - 1) / kStripMaxTile;
+    magnify = shrink > 1 ? 1 : std::max(1u, kStripMinTile / n);
+    shown = (n + shrink - 1) / shrink;
+  };
+  uint32_t shrinkX, magnifyX, shownX, shrinkY, magnifyY, shownY;
+  scale(bins, shrinkX, magnifyX, shownX);
+  scale(rows, shrinkY, magnifyY, shownY);
+  auto blockAverage = [&](const std::vector<float>& values) {
+    std::vector<float> out(size_t(shownX) * shownY, 0.0f);
+    for (uint32_t y = 0; y < shownY; ++y)
+      for (uint32_t x = 0; x < shownX; ++x) {
+        double sum = 0;
+        uint32_t count = 0;
+        for (uint32_t r = y * shrinkY; r < std::min(rows, (y + 1) * shrinkY); ++r)
+          for (uint32_t b = x * shrinkX; b < std::min(bins, (x + 1) * shrinkX); ++b, ++count) {
+            const float v = values[size_t(r) * bins + b];
+            if (std::isfinite(v)) sum += v;
+          }
+        out[size_t(y) * shownX + x] = float(sum / count);
+      }
+    return out;
+  };
+  std::vector<std::vector<float>> shown;
+  for (const auto& panel : panels) shown.push_back(blockAverage(panel.second));
+  std::vector<const std::vector<float>*> layers;
+  for (const std::vector<float>& values : shown) layers.push_back(&values);
+  const float exposure = io::radianceExposure(layers);  // before the difference joins: brightness only
+  std::vector<std::string> captions;
+  for (const auto& panel : panels) captions.push_back(panel.first);
+  float largestDifference = 0;
+  if (panels.size() >= 2) {
+    std::vector<float> difference(shown.front().size());
+    for (size_t i = 0; i < difference.size(); ++i) {
+      difference[i] = shown.back()[i] - shown.front()[i];
+      largestDifference = std::max(largestDifference, std::abs(difference[i]));
+    }
+    shown.push_back(std::move(difference));
+    captions.push_back("difference, max " + shortNumber(largestDifference));
+  }
+
+  const int lineHeight = Canvas::textHeight(kTextScale);
+  const int panelWidth = int(shownX * magnifyX), panelHeight = int(shownY * magnifyY);
+  std::vector<int> centres;  // of each panel's column, which fits the panel and its caption
+  int canvasWidth = kGap;
+  for (const std::string& caption : captions) {
+    const int width = std::max(panelWidth, Canvas::textWidth(caption, kTextScale));
+    centres.push_back(canvasWidth + width / 2);
+    canvasWidth += width + 2 * kGap;  // captions may be as wide as their column
+  }
+  const int panelTop = kGap + lineHeight + 4, footerTop = panelTop + panelHeight + 6;
+  const std::string axis = "path length " + shortNumber(firstLength) + " to " + shortNumber(lastLength) +
+                           " m, left to right; " + std::to_string(rows) + " scan points, top to bottom" +
+                           (shrinkY > 1 ? " (averaged in blocks of " + std::to_string(shrinkY) + ")" : "");
+  canvasWidth = std::max(canvasWidth, 2 * kGap + Canvas::textWidth(axis, kTextScale));
+  Canvas canvas(uint32_t(canvasWidth), uint32_t(footerTop + lineHeight + kGap), kWhite);
+  for (size_t p = 0; p < shown.size(); ++p) {
+    const bool difference = p == panels.size();
+    centredText(canvas, centres[p], kGap, captions[p]);
+    const int left = centres[p] - panelWidth / 2;
+    for (uint32_t y = 0; y < shownY; ++y)
+      for (uint32_t x = 0; x < shownX; ++x) {
+        const float v = shown[p][size_t(y) * shownX + x];
+        const Rgb colour = difference ? io::divergingColor(largestDifference > 0 ? v / largestDifference : 0.0f)
+                                      : grey(io::radianceGrey(v, exposure));
+        const int px = left + int(x * magnifyX), py = panelTop + int(y * magnifyY);
+        canvas.fillRect(px, py, px + int(magnifyX), py + int(magnifyY), colour);
+      }
+  }
+  canvas.text(kGap, footerTop, axis, kBlack, kTextScale);
+  canvas.writePng(path);
+}
+
 void writeHeightfieldComparison(const fs::path& path, uint32_t nx, uint32_t nz, const std::vector<double>& recovered,
                                 const std::vector<double>& truth) {
   const size_t count = size_t(nx) * nz;

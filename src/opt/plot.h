@@ -1,5 +1,6 @@
 // PNG figures of a `vktg optimize` run, drawn without external tools: line plots (loss, parameter
-// error), image strips (target / initial / current) and heightfield comparisons.
+// error), image strips (target / initial / current), the transients of a scan and heightfield
+// comparisons.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -31,6 +32,18 @@ void writeLinePlot(const std::filesystem::path& path, const LinePlot& plot, uint
 // compare by brightness; tiles are magnified to at least 128 pixels on their longest side or
 // box-filtered to at most 512. Throws vktg::Error naming the file for a malformed image.
 void writeImageStrip(const std::filesystem::path& path, const std::vector<std::pair<std::string, ImageSet>>& tiles);
+
+// The transients of a scan side by side, one panel per entry (e.g. target, initial, current), each
+// `rows` x `bins` values, row-major: a row per scan point (top to bottom), a column per time bin
+// (left to right, from path length `firstLength` to `lastLength`, printed under the panels). The
+// panels are grey on one exposure so that they compare by brightness; with two or more, one more
+// panel shows the last minus the first in a diverging scale (blue below, red above, its largest
+// magnitude printed). Bins are magnified to at least 128 pixels across, rows to at least 128 down;
+// more than 512 of either are averaged in blocks. Throws vktg::Error naming the file for no panels
+// or a panel of the wrong size.
+void writeTransientScan(const std::filesystem::path& path, uint32_t rows, uint32_t bins,
+                        const std::vector<std::pair<std::string, std::vector<float>>>& panels, double firstLength,
+                        double lastLength);
 
 // Two height maps (nx x nz, row-major: value j * nx + i at column i, row j, as a heightfield's
 // heights) side by side in one sequential colour scale (viridis), then their difference
