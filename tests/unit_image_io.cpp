@@ -332,22 +332,36 @@ TEST_F(ImageIo, PngDivergingScaleIgnoresFireflyAndZeroImageIsWhite) {
 
 TEST_F(ImageIo, PngContactSheetSharesOneExposure) {
   // Three constant 4x2 layers 0, 1, 2: the shared 99th percentile is 2, so layer 1 shows at
-  // linear 0.45 (a per-layer exposure would show it at 0.9).
+  // linear 0.45 (a per-layer exposure would show it at 0.9). Tiles this small are magnified 16x
+  // (to 64 pixels across).
   vktg::ImageSet images{4, 2, {}};
   for (int t = 0; t < 3; ++t) images.layers.push_back({"bin" + std::to_string(t), std::vector<float>(8, float(t))});
   vktg::writePngContactSheet(m_dir / "sheet.png", images);
   const DecodedPng png = decodePng(m_dir / "sheet.png");
   const int gap = 2;
-  ASSERT_EQ(png.width, 3 * 4 + 4 * gap);
-  ASSERT_EQ(png.height, 2 + 2 * gap);
+  ASSERT_EQ(png.width, 3 * 64 + 4 * gap);
+  ASSERT_EQ(png.height, 32 + 2 * gap);
   ASSERT_EQ(png.channels, 1);
   EXPECT_EQ(*png.at(0, 0), *png.at(png.width - 1, png.height - 1));  // background border
   for (int t = 0; t < 3; ++t) {
-    const int left = gap + t * (4 + gap);
+    const int left = gap + t * (64 + gap);
     const int expected = srgbByte(0.45f * float(t));
     EXPECT_EQ(*png.at(left, gap), expected) << t;
-    EXPECT_EQ(*png.at(left + 3, gap + 1), expected) << t;
+    EXPECT_EQ(*png.at(left + 63, gap + 31), expected) << t;
   }
+}
+
+TEST_F(ImageIo, PngContactSheetMagnifiesEachPixelIntoABlock) {
+  // A 2x1 layer, left pixel 1 and right 0: magnified 32x, the left 32 columns bright, the rest black.
+  vktg::ImageSet images{2, 1, {{"bin0", {1.0f, 0.0f}}, {"bin1", {1.0f, 0.0f}}}};
+  vktg::writePngContactSheet(m_dir / "magnified.png", images);
+  const DecodedPng png = decodePng(m_dir / "magnified.png");
+  const int gap = 2;
+  ASSERT_EQ(png.width, 2 * 64 + 3 * gap);
+  ASSERT_EQ(png.height, 32 + 2 * gap);
+  EXPECT_EQ(*png.at(gap + 31, gap + 31), srgbByte(0.9f));
+  EXPECT_EQ(*png.at(gap + 32, gap), srgbByte(0.0f));
+  EXPECT_EQ(*png.at(gap + 63, gap + 31), srgbByte(0.0f));
 }
 
 TEST_F(ImageIo, PngContactSheetWrapsAtSixteenColumnsAndShrinksLargeLayers) {

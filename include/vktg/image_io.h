@@ -38,7 +38,8 @@ void writePngRadiance(const std::filesystem::path& path, uint32_t width, uint32_
 // is the magnitude that maps to full colour (returned so callers can print it).
 float writePngDiverging(const std::filesystem::path& path, uint32_t width, uint32_t height,
                         const std::vector<float>& pixels);
-// A strip of small tiles, one per layer (transient stacks), sharing one exposure.
+// A strip of small tiles, one per layer (transient stacks), sharing one exposure: layers larger
+// than 128 pixels are box-filtered down, smaller than 64 magnified by a whole factor.
 void writePngContactSheet(const std::filesystem::path& path, const ImageSet& images);
 
 // NumPy .npy of shape (H, W, T) float32, T = number of layers.

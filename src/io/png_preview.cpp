@@ -24,6 +24,8 @@ constexpr double kRadiancePercentile = 0.99;
 constexpr double kDivergingPercentile = 0.995;
 constexpr uint32_t kContactColumns = 16;
 constexpr uint32_t kContactTileSize = 128;  // longest tile side; larger layers are box-filtered down
+// Smaller layers (a scan's grid of a few points) are magnified by a whole factor to at least this.
+constexpr uint32_t kContactMinTile = 64;
 constexpr uint32_t kContactGap = 2;
 constexpr uint8_t kContactBackground = 96;
 
@@ -130,8 +132,10 @@ float writePngDiverging(const fs::path& path, uint32_t width, uint32_t height, c
 void writePngContactSheet(const fs::path& path, const ImageSet& images) {
   io::validateImageSet(path, images);
   const uint32_t factor = std::max(1u, (std::max(images.width, images.height) + kContactTileSize - 1) / kContactTileSize);
-  const uint32_t tileWidth = (images.width + factor - 1) / factor;
-  const uint32_t tileHeight = (images.height + factor - 1) / factor;
+  const uint32_t shrunkWidth = (images.width + factor - 1) / factor;
+  const uint32_t shrunkHeight = (images.height + factor - 1) / factor;
+  const uint32_t magnify = std::max(1u, kContactMinTile / std::max(shrunkWidth, shrunkHeight));
+  const uint32_t tileWidth = shrunkWidth * magnify, tileHeight = shrunkHeight * magnify;
   const uint32_t count = uint32_t(images.layers.size());
   const uint32_t columns = std::min(count, kContactColumns);
   const uint32_t rows = (count + columns - 1) / columns;
@@ -142,7 +146,7 @@ void writePngContactSheet(const fs::path& path, const ImageSet& images) {
   std::vector<const std::vector<float>*> tilePointers;
   size_t nonFinite = 0;
   for (const ImageLayer& layer : images.layers) {
-    tiles.push_back(io::downsample(layer.pixels, images.width, images.height, factor, tileWidth, tileHeight));
+    tiles.push_back(io::downsample(layer.pixels, images.width, images.height, factor, shrunkWidth, shrunkHeight));
     nonFinite += countNonFinite(layer.pixels);
   }
   for (const std::vector<float>& tile : tiles) tilePointers.push_back(&tile);
@@ -155,7 +159,8 @@ void writePngContactSheet(const fs::path& path, const ImageSet& images) {
     const uint32_t top = kContactGap + (index / columns) * (tileHeight + kContactGap);
     for (uint32_t y = 0; y < tileHeight; ++y) {
       for (uint32_t x = 0; x < tileWidth; ++x) {
-        sheet[size_t(top + y) * sheetWidth + left + x] = io::radianceGrey(tiles[index][size_t(y) * tileWidth + x], exposure);
+        sheet[size_t(top + y) * sheetWidth + left + x] =
+            io::radianceGrey(tiles[index][size_t(y / magnify) * shrunkWidth + x / magnify], exposure);
       }
     }
   }
