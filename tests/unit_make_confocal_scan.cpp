@@ -35,7 +35,7 @@ fs::path generate(const std::string& name, const std::string& arguments) {
 TEST(MakeConfocalScan, WritesTheRepositorysExperimentAtItsSize) {
   const fs::path out = generate("repo", "");
   const fs::path repo = fs::path(VKTG_SOURCE_DIR) / "experiments" / "confocal_scan";
-  for (const char* file : {"scene.json", "fine_bins.experiment.json", "coarse_bins.experiment.json"})
+  for (const char* file : {"scene.json", "scan.json", "fine_bins.experiment.json", "coarse_bins.experiment.json"})
     EXPECT_EQ(readAll(out / file), readAll(repo / file)) << file;
   fs::remove_all(out);
 }

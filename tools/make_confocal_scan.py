@@ -10,7 +10,8 @@ hidden scene with a point light at the same place. The unknowns are every vertex
 
 Usage: make_confocal_scan.py OUT_DIR [--heights N] [--scan M] [--bin-width W] [--iterations K]
   OUT_DIR receives scene.json (the truth), fine_bins.experiment.json and
-  coarse_bins.experiment.json (the same scan with bins 4x wider).
+  coarse_bins.experiment.json (the same scan with bins 4x wider), scan.json (the scan points as a
+  scan file: `vktg render OUT_DIR/scene.json --scan OUT_DIR/scan.json --npy` renders the transient cube).
   The repository's copy: --heights 8 --scan 8 (lavapipe size). A GPU-size run:
   --heights 100 --scan 32 (10^4 heights, 1024 transients)."""
 import argparse
@@ -53,6 +54,17 @@ def scene(n, bin_width):
                     "size": [SIZE, SIZE], "heights": heights}],
         "lights": [{"type": "point", "name": "laser", "position": [0, WALL_Y, 0], "intensity": 1.0}],
         "parameters": [{"type": "heightfield_heights", "shape": "hidden", "name_prefix": "h"}],
+    }
+
+
+def scan_grid(scan):
+    """The experiment's scan points as a scan file for `vktg render --scan` (the same grid, row by row
+    along z, the laser at every point): its image is the scan's transient cube."""
+    return {
+        "version": 1,
+        "description": f"The {scan} x {scan} confocal scan of the relay wall (sensor and laser at each point)",
+        "grid": {"corner": [-SCAN_HALF, WALL_Y, -SCAN_HALF], "across": [2 * SCAN_HALF, 0, 0],
+                 "down": [0, 0, 2 * SCAN_HALF], "resolution": [scan, scan], "lights": ["laser"]},
     }
 
 
@@ -116,6 +128,8 @@ def main():
     with open(os.path.join(args.out, "scene.json"), "w") as f:
         json.dump(truth, f, indent=1)
     n, m = args.heights, args.scan
+    with open(os.path.join(args.out, "scan.json"), "w") as f:
+        json.dump(scan_grid(m), f, indent=1)
     coarse = 4 * args.bin_width
     # The scene's gate holds the fine bins; the coarse run gives every target the coarse gate.
     for name, width, gate in (("fine_bins", args.bin_width, None), ("coarse_bins", coarse, bins_gate(coarse))):

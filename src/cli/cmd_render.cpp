@@ -2,14 +2,39 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "cli/commands.h"
 #include "cli/common.h"
 #include "host/nee_pilot.h"
 #include "host/renderer.h"
+#include "scene/scan.h"
+#include "scene/seeds.h"
 #include "vktg/image_io.h"
 
 namespace vktg::cli {
+namespace {
+
+// The render views of a scan: each view's camera and lights, and its own random numbers.
+std::vector<RenderView> scanViews(const Scan& scan, const Scene& scene) {
+  std::vector<RenderView> views;
+  for (size_t k = 0; k < scan.views.size(); ++k)
+    views.push_back({cameraSeenFrom(scene.camera, scan.views[k]), derivedSeed((uint64_t(scene.render.seed) << 32) ^ k),
+                     scan.views[k].lightPositions});
+  return views;
+}
+
+// A scan's image: at a point sensor (one pixel per view) the grid, view j * columns + i at pixel
+// (i, j); behind a pinhole the views' images one below the other, as the render stacks them.
+ImageSet scanImage(ImageSet stacked, const Scan& scan, CameraType camera) {
+  if (camera == CameraType::PointSensor) {
+    stacked.width = scan.columns;
+    stacked.height = scan.rows;
+  }
+  return stacked;
+}
+
+}  // namespace
 
 const CommandSpec& renderSpec() {
   static const CommandSpec spec = [] {
@@ -26,6 +51,10 @@ const CommandSpec& renderSpec() {
     s.options = sceneOverrideOptions();
     s.options.push_back({"--out", "FILE.exr", "output image (default out/render.exr); the PNG goes beside it"});
     s.options.push_back({"--npy", "", "also write FILE.npy, float32 of shape (H, W, T)"});
+    s.options.push_back({"--scan", "FILE.json",
+                         "render every view of a scan file (a grid of sensor and laser positions on a relay wall, or a "
+                         "list of views) in one render; at a point sensor the image is the scan grid, one pixel per "
+                         "point (docs/scene-format.md, Scans); behind a pinhole the views' images one below the other"});
     s.options.push_back({"--profile", "", "print GPU time per pass"});
     s.options.push_back({"--explain", "", "print the planner's choices and why"});
     s.options.push_back({"--pilot", "WHEN",
@@ -37,7 +66,8 @@ const CommandSpec& renderSpec() {
         "  vktg render                                   # default scene, out/render.exr + out/render.png\n"
         "  vktg render scenes/cornell_box.json --gate box:3.5,4.5 --spp 256\n"
         "  vktg render scenes/cornell_box.json --gate bins:3,0.1,40 --out out/stack.exr --npy\n"
-        "  vktg render scenes/confocal_plane.json --gate gaussian:2,0.002 --explain\n";
+        "  vktg render scenes/confocal_plane.json --gate gaussian:2,0.002 --explain\n"
+        "  vktg render experiments/confocal_scan/scene.json --scan experiments/confocal_scan/scan.json --npy\n";
     return s;
   }();
   return spec;
@@ -64,16 +94,28 @@ int runRender(const std::vector<std::string>& argv) {
   std::filesystem::path npy = withExtension(exr, ".npy");
   std::vector<std::filesystem::path> inputs;
   if (!args.positionals.empty()) inputs.push_back(args.positionals[0]);
+  std::optional<Scan> scan;
+  if (auto file = args.get("--scan")) {
+    scan = loadScan(*file, scene);
+    inputs.push_back(*file);
+  }
   for (const auto& out : {exr, png, npy}) checkOutputPath(out, inputs);
 
   auto context = makeContext(args);
   auto wallStart = std::chrono::steady_clock::now();
   Renderer renderer(*context);
   DeviceScene deviceScene(*context, scene);
-  const RenderSetup setup = RenderSetup::of(scene);
+  RenderSetup setup = RenderSetup::of(scene);
+  const std::vector<RenderView> views = scan ? scanViews(*scan, scene) : std::vector<RenderView>{};
+  if (scan) {
+    // The pilot measures the first view.
+    setup.camera = views.front().camera;
+    deviceScene.placePointLights(views.front().lightPositions);
+  }
   if (pilot != "off") chooseNeeByPilot(renderer, deviceScene, setup, options, pilot == "auto");
   options.progress = makeProgress("render", quiet);
-  RenderResult result = renderer.render(deviceScene, setup, options);
+  RenderResult result = scan ? renderer.render(deviceScene, setup, views, options) : renderer.render(deviceScene, setup, options);
+  if (scan) result.mean = scanImage(result.mean, *scan, scene.camera.type);
   if (args.has("--explain")) std::cout << "plan (" << context->report().name << "):\n" << explainPlan(result.plan);
 
   writeExr(exr, result.mean);
@@ -96,6 +138,8 @@ int runRender(const std::vector<std::string>& argv) {
   if (!quiet) {
     std::fprintf(stderr, "vktg: %s, %ux%u, %u spp, %s NEE on %s\n", scene.gate.describe().c_str(), result.mean.width,
                  result.mean.height, scene.render.spp, neeModeName(result.plan.nee), context->report().name.c_str());
+    if (scan)
+      std::fprintf(stderr, "vktg: %zu scan views (%u x %u) in one render\n", scan->views.size(), scan->columns, scan->rows);
     std::fprintf(stderr, "vktg: %.3f s render (%.3f s total): %.3g paths/s, %.3g rays/s\n", st.seconds, wall,
                  double(st.paths) / st.seconds, double(st.extensionRays + st.shadowRays) / st.seconds);
     std::fprintf(stderr, "vktg: %llu paths ended by the gate cutoff, %llu by roulette, %llu at max depth; %llu non-finite\n",

@@ -21,6 +21,7 @@
 #include "opt/run_directory.h"
 #include "opt/run_files.h"
 #include "opt/target_figures.h"
+#include "scene/seeds.h"
 #include "vktg/error.h"
 #include "vktg/parameter_model.h"
 
@@ -33,13 +34,7 @@ namespace fs = std::filesystem;
 // comes from, 1: the gradient's renders; independent, as THEORY.md §7 requires): a hash of
 // (seed, iteration, target, use).
 uint32_t seedFor(uint32_t seed, uint64_t iteration, size_t target, uint32_t use) {
-  uint64_t x = (uint64_t(seed) << 32) ^ (iteration * 0x9E3779B97F4A7C15ull) ^ (uint64_t(target) << 8) ^ use;
-  x ^= x >> 30;
-  x *= 0xBF58476D1CE4E5B9ull;
-  x ^= x >> 27;
-  x *= 0x94D049BB133111EBull;
-  x ^= x >> 31;
-  return uint32_t(x);
+  return derivedSeed((uint64_t(seed) << 32) ^ (iteration * 0x9E3779B97F4A7C15ull) ^ (uint64_t(target) << 8) ^ use);
 }
 
 std::string formatSeconds(double s) {

@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "scene/scene_values.h"
+#include "scene/scene_view.h"
 #include "vktg/error.h"
 
 namespace vktg {
@@ -125,69 +126,12 @@ class ExperimentParser {
       nameWhere.fail("invalid target name " + inQuotes(target.name) +
                      " (use letters, digits, '_', '-' and '.': it names files and log columns)");
     if (!names.insert(target.name).second) nameWhere.fail("duplicate target name " + inQuotes(target.name));
-    if (o.has("view")) target.view = parseView(o.field("view"));
+    if (o.has("view")) target.view = parseSceneView(o.field("view"), m_x.scene);
     target.gate = o.has("gate") ? parseGateValue(o.field("gate")) : m_x.scene.gate;
     target.weight = o.number("weight", target.weight);
     if (o.has("weight")) requireAbove(o.field("weight"), target.weight, 0.0);
     parseImage(o.field("image"), index, target);
     return target;
-  }
-
-  // A view overrides the pose of the scene's camera (fields that fit its type) and moves point lights.
-  TargetView parseView(const JsonValue& value) {
-    const JsonObject o(value, {"position", "look_at", "up", "normal", "lights"});
-    const Camera& camera = m_x.scene.camera;
-    const bool perspective = camera.type == CameraType::Perspective;
-    for (std::string_view key : {"look_at", "up"})
-      if (o.has(key) && !perspective)
-        o.field(key).fail(std::string(key) +
-                          " applies to perspective cameras, but the scene's camera is a point sensor (its view "
-                          "takes position and normal)");
-    if (o.has("normal") && perspective)
-      o.field("normal").fail(
-          "normal applies to point sensors, but the scene's camera is perspective (its view takes position, look_at "
-          "and up)");
-
-    TargetView view;
-    if (o.has("position")) view.position = o.field("position").vec3();
-    if (o.has("look_at")) view.lookAt = o.field("look_at").vec3();
-    if (o.has("up")) view.up = o.field("up").vec3();
-    if (o.has("normal")) view.normal = o.field("normal").vec3();
-    if (perspective) {
-      const glm::vec3 position = view.position.value_or(camera.position);
-      const glm::vec3 direction = view.lookAt.value_or(camera.lookAt) - position;
-      const glm::vec3 up = view.up.value_or(camera.up);
-      const JsonValue moved = o.has("look_at") ? o.field("look_at") : o.has("position") ? o.field("position") : value;
-      if (!(glm::length(direction) > 0)) moved.fail("degenerate view: look_at equals position");
-      if (!(glm::length(up) > 0)) o.field("up").fail("degenerate view: up must not be zero");
-      if (glm::length(glm::cross(glm::normalize(direction), glm::normalize(up))) < 1e-6f)
-        (o.has("up") ? o.field("up") : moved).fail("degenerate view: up is parallel to the view direction");
-      if (view.up) view.up = glm::normalize(*view.up);
-    } else if (view.normal) {
-      if (!(glm::length(*view.normal) > 0)) o.field("normal").fail("degenerate view: normal must not be zero");
-      view.normal = glm::normalize(*view.normal);
-    }
-    if (o.has("lights")) view.lightPositions = parseLightPositions(o.field("lights"));
-    return view;
-  }
-
-  std::vector<std::pair<uint32_t, glm::vec3>> parseLightPositions(const JsonValue& value) {
-    if (!value.json().is_object())
-      value.fail("wrong type: expected an object mapping point-light names to positions [x, y, z]");
-    const std::vector<PointLight>& lights = m_x.scene.pointLights;
-    std::vector<std::pair<uint32_t, glm::vec3>> positions;
-    for (const auto& item : value.json().items()) {
-      const JsonValue entry{&item.value(), m_file, value.path + "." + item.key()};
-      const auto light = std::find_if(lights.begin(), lights.end(), [&](const PointLight& l) { return l.name == item.key(); });
-      if (light == lights.end()) {
-        std::string known;
-        for (const PointLight& l : lights) known += (known.empty() ? "" : ", ") + l.name;
-        entry.fail("unknown point light " + inQuotes(item.key()) +
-                   (known.empty() ? " (the scene has no point lights)" : " (the scene's point lights: " + known + ")"));
-      }
-      positions.emplace_back(uint32_t(light - lights.begin()), entry.vec3());
-    }
-    return positions;
   }
 
   void parseImage(const JsonValue& value, size_t index, Target& target) {

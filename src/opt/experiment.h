@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/scene_view.h"
 #include "vktg/gate.h"
 #include "vktg/image_io.h"
 #include "vktg/scene.h"
@@ -30,17 +31,9 @@ struct ExperimentParameter {
 };
 
 // Where a target was seen from: overrides of the scene's camera pose and point-light positions.
-struct TargetView {
-  std::optional<glm::vec3> position;  // camera eye or sensor position
-  std::optional<glm::vec3> lookAt;    // perspective only
-  std::optional<glm::vec3> up;        // perspective only
-  std::optional<glm::vec3> normal;    // point sensor only
-  std::vector<std::pair<uint32_t, glm::vec3>> lightPositions;  // Scene::pointLights index -> position
-};
-
 struct Target {
   std::string name;                 // unique, letters, digits, '_', '-', '.'; names images and log columns
-  TargetView view;
+  SceneView view;                   // where the camera and the point lights are for this target
   Gate gate;                        // default: the scene's gate; may be a transient stack
   double weight = 1;                // factor on this target's loss
   std::filesystem::path image;      // an EXR whose size and layers match the view and gate ...

@@ -27,12 +27,8 @@ std::string describeImage(const Target& target) {
 
 Scene sceneForTarget(const Scene& scene, const Target& target) {
   Scene out = scene;
-  const TargetView& view = target.view;
-  Camera& camera = out.camera;
-  if (view.position) camera.position = *view.position;
-  if (view.lookAt) camera.lookAt = *view.lookAt;
-  if (view.up) camera.up = glm::normalize(*view.up);
-  if (view.normal) camera.normal = glm::normalize(*view.normal);
+  const SceneView& view = target.view;
+  out.camera = cameraSeenFrom(scene.camera, view);
   for (const auto& [light, position] : view.lightPositions) {
     if (light >= out.pointLights.size())
       fail(scene.source.string(), "target \"" + target.name + "\"", "view moves point light " + std::to_string(light) +

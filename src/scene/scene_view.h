@@ -1,0 +1,33 @@
+// A view of a scene: where its camera or point sensor stands and which point lights sit elsewhere
+// than the scene puts them. The targets of an experiment (docs/optimize.md) and the points of a scan
+// (docs/scene-format.md, "Scans") are views of one scene that one render can hold together.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene_values.h"
+#include "vktg/scene.h"
+
+namespace vktg {
+
+struct SceneView {
+  std::optional<glm::vec3> position;  // camera eye or sensor position
+  std::optional<glm::vec3> lookAt;    // perspective only
+  std::optional<glm::vec3> up;        // perspective only (unit length once parsed)
+  std::optional<glm::vec3> normal;    // point sensor only (unit length once parsed)
+  std::vector<std::pair<uint32_t, glm::vec3>> lightPositions;  // Scene::pointLights index -> position
+};
+
+// {"position", "look_at", "up", "normal", "lights": {"NAME": [x, y, z]}}, the fields that fit the
+// scene's camera; every error names the field: a field for the other camera type, a degenerate pose
+// (look_at at the position, up zero or along the view direction, a zero normal), an unknown light.
+SceneView parseSceneView(const JsonValue& value, const Scene& scene);
+
+// `camera` moved as `view` says (its type, image size and field of view stay).
+Camera cameraSeenFrom(const Camera& camera, const SceneView& view);
+
+}  // namespace vktg

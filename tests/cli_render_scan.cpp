@@ -1,0 +1,114 @@
+// End-to-end tests of `vktg render --scan` (docs/scene-format.md, "Scans"): a grid of confocal scan
+// points on the relay wall of the confocal-scan experiment renders as one image of the grid, each
+// pixel's transient bit for bit the one-view render of that point (its camera and laser moved there,
+// its seed the scan's derived seed); a list of pinhole views stacks their images; bad scan files
+// are errors naming the file and the field, with nothing written.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/seeds.h"
+#include "support/cli_runner.h"
+#include "vktg/image_io.h"
+
+namespace vktg::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const fs::path kScene = fs::path(VKTG_SOURCE_DIR) / "experiments" / "confocal_scan" / "scene.json";
+constexpr uint32_t kSeed = 7;
+
+CliResult runOk(const std::vector<std::string>& args, const TempDir& dir) {
+  CliResult r = runVktg(args, {.cwd = dir.path()});
+  EXPECT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_TRUE(linesStartingWith(r.err, "vktg: error:").empty()) << r.describe();
+  return r;
+}
+
+void writeJson(const fs::path& path, const json& value) { std::ofstream(path) << value.dump(1); }
+
+json readJson(const fs::path& path) {
+  std::ifstream stream(path);
+  return json::parse(stream);
+}
+
+TEST(CliRenderScan, GridPixelsAreTheOneViewRendersOfTheirPoints) {
+  TempDir dir;
+  // 3 x 2 points over part of the wall (y = 1), the laser at each.
+  const json scan = {{"version", 1},
+                     {"grid",
+                      {{"corner", {-0.3, 1.0, -0.2}}, {"across", {0.6, 0.0, 0.0}}, {"down", {0.0, 0.0, 0.4}},
+                       {"resolution", {3, 2}}, {"lights", {"laser"}}}}};
+  writeJson(dir / "scan.json", scan);
+  const std::vector<std::string> common = {"--spp", "16", "--seed", std::to_string(kSeed), "--nee", "standard"};
+  std::vector<std::string> args = {"render", kScene.string(), "--scan", (dir / "scan.json").string(), "--npy",
+                                   "--out", (dir / "scan.exr").string()};
+  args.insert(args.end(), common.begin(), common.end());
+  const CliResult r = runOk(args, dir);
+  EXPECT_NE(r.err.find("6 scan views (3 x 2) in one render"), std::string::npos) << r.describe();
+  const ImageSet image = readExr(dir / "scan.exr");
+  ASSERT_EQ(image.width, 3u);
+  ASSERT_EQ(image.height, 2u);
+  ASSERT_EQ(image.layers.size(), 20u) << "the scene's bins";
+  EXPECT_TRUE(fs::exists(dir / "scan.npy"));
+
+  // Point (i, j) alone: the scene with its sensor and laser at the point, the view's seed.
+  const json scene = readJson(kScene);
+  double total = 0;
+  for (uint32_t k : {0u, 4u}) {
+    const uint32_t i = k % 3, j = k / 3;
+    const json point = {-0.3 + 0.3 * i, 1.0, -0.2 + 0.4 * j};
+    json moved = scene;
+    moved["camera"]["position"] = point;
+    moved["lights"][0]["position"] = point;
+    // Heights and materials as the original's (its folder holds nothing else it needs).
+    writeJson(dir / "point.json", moved);
+    std::vector<std::string> one = {"render", (dir / "point.json").string(), "--out", (dir / "point.exr").string()};
+    one.insert(one.end(), common.begin(), common.end());
+    one[std::find(one.begin(), one.end(), "--seed") - one.begin() + 1] =
+        std::to_string(derivedSeed((uint64_t(kSeed) << 32) ^ k));
+    runOk(one, dir);
+    const ImageSet alone = readExr(dir / "point.exr");
+    ASSERT_EQ(alone.width * alone.height, 1u);
+    ASSERT_EQ(alone.layers.size(), image.layers.size());
+    for (size_t b = 0; b < alone.layers.size(); ++b) {
+      EXPECT_EQ(image.layers[b].pixels[j * 3 + i], alone.layers[b].pixels[0]) << "point " << k << ", bin " << b;
+      total += alone.layers[b].pixels[0];
+    }
+  }
+  EXPECT_GT(total, 0) << "the hidden surface returns light to the wall";
+}
+
+TEST(CliRenderScan, PinholeViewsStackTheirImages) {
+  TempDir dir;
+  writeJson(dir / "views.json", {{"version", 1},
+                                 {"views", {{{"position", {0.0, 1.0, 3.4}}}, {{"position", {0.5, 1.0, 3.4}}}}}});
+  runOk({"render", "--scan", (dir / "views.json").string(), "--spp", "2", "--resolution", "8x6", "--out",
+         (dir / "views.exr").string()},
+        dir);
+  const ImageSet image = readExr(dir / "views.exr");
+  EXPECT_EQ(image.width, 8u);
+  EXPECT_EQ(image.height, 12u) << "two 8 x 6 views, one below the other";
+}
+
+TEST(CliRenderScan, BadScanFilesNameTheFieldAndWriteNothing) {
+  TempDir dir;
+  writeJson(dir / "bad.json", {{"version", 1}, {"grid", {{"corner", {0, 1, 0}}, {"resolution", {2, 2}}}}});
+  const CliResult r = runVktg({"render", kScene.string(), "--scan", (dir / "bad.json").string(), "--out",
+                               (dir / "out.exr").string()},
+                              {.cwd = dir.path()});
+  EXPECT_TRUE(r.exited && r.exitCode != 0) << r.describe();
+  EXPECT_NE(r.err.find((dir / "bad.json").string()), std::string::npos) << r.describe();
+  EXPECT_NE(r.err.find("grid.across"), std::string::npos) << r.describe();
+  EXPECT_FALSE(fs::exists(dir / "out.exr"));
+  const CliResult missing = runVktg({"render", kScene.string(), "--scan", (dir / "none.json").string()}, {.cwd = dir.path()});
+  EXPECT_TRUE(missing.exited && missing.exitCode != 0) << missing.describe();
+  EXPECT_NE(missing.err.find("none.json"), std::string::npos) << missing.describe();
+}
+
+}  // namespace
+}  // namespace vktg::test
