@@ -86,6 +86,8 @@ TEST(Scan, BadFilesNameTheFieldAndTheProblem) {
        {"grid.normal", "perspective"}},
       {"look_at at a sensor", R"({"version": 1, "views": [{"look_at": [0, 0, 0]}]})", &sensor,
        {"views[0].look_at", "point sensor"}},
+      {"overflowing grid", R"({"version": 1, "grid": {"corner": [3e38, 1, 0], "across": [3e38, 0, 0], "resolution": [2, 1]}})",
+       &sensor, {"grid", "grid point (1, 0) is not a finite position"}},
       {"looks at itself", R"({"version": 1, "grid": {"corner": [0, 0, 0], "resolution": [1, 1]}})", &pinhole,
        {"grid", "degenerate view at grid point (0, 0)"}},
   };

@@ -1,6 +1,7 @@
 #include "scene/scan.h"
 
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 
 #include "vktg/error.h"
@@ -58,6 +59,9 @@ Scan parseGrid(const JsonValue& value, const Scene& scene) {
     for (uint32_t i = 0; i < scan.columns; ++i) {
       SceneView view = base;
       view.position = gridPoint(corner, across, down, i, j, scan.columns, scan.rows);
+      const glm::vec3 p = *view.position;
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))  // finite fields whose sum overflows
+        value.fail("grid point (" + std::to_string(i) + ", " + std::to_string(j) + ") is not a finite position");
       if (perspective) {
         const glm::vec3 direction = view.lookAt.value_or(scene.camera.lookAt) - *view.position;
         const glm::vec3 up = view.up.value_or(scene.camera.up);
