@@ -1,8 +1,9 @@
 // End-to-end tests of `vktg render --scan` (docs/scene-format.md, "Scans"): a grid of confocal scan
 // points on the relay wall of the confocal-scan experiment renders as one image of the grid, each
 // pixel's transient bit for bit the one-view render of that point (its camera and laser moved there,
-// its seed the scan's derived seed); a list of pinhole views stacks their images; bad scan files
-// are errors naming the file and the field, with nothing written.
+// its seed the scan's derived seed); a list of pinhole views stacks their images; the cube is what
+// an experiment's scan target reads; bad scan files are errors naming the file and the field, with
+// nothing written.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -93,6 +94,29 @@ TEST(CliRenderScan, PinholeViewsStackTheirImages) {
   const ImageSet image = readExr(dir / "views.exr");
   EXPECT_EQ(image.width, 8u);
   EXPECT_EQ(image.height, 12u) << "two 8 x 6 views, one below the other";
+}
+
+TEST(CliRenderScan, ARenderedScanIsAnOptimisationTarget) {
+  // The cube `vktg render --scan` writes is what a scan target of an experiment reads: the hidden
+  // heights start flat and are fitted to it for two iterations (the plumbing, not convergence).
+  TempDir dir;
+  fs::copy_file(kScene, dir / "scene.json");
+  writeJson(dir / "scan.json", {{"version", 1},
+                                {"grid",
+                                 {{"corner", {-0.3, 1.0, -0.3}}, {"across", {0.6, 0.0, 0.0}}, {"down", {0.0, 0.0, 0.6}},
+                                  {"resolution", {3, 3}}, {"lights", {"laser"}}}}});
+  runOk({"render", "scene.json", "--scan", "scan.json", "--spp", "1024", "--out", "cube.exr"}, dir);
+  writeJson(dir / "experiment.json", {{"version", 1},
+                                      {"scene", "scene.json"},
+                                      {"parameters", {{{"name", "h*"}, {"initial", 0}}}},
+                                      {"targets", {{{"name", "wall"}, {"scan", "scan.json"}, {"image", "cube.exr"}}}},
+                                      {"render", {{"spp", 16}}},
+                                      {"stop", {{"iterations", 2}}}});
+  const CliResult r = runOk({"optimize", "experiment.json", "--out", "run"}, dir);
+  const std::string log = readFileBytes(dir / "run" / "log.csv");
+  for (const char* column : {"loss_wall_0_0", "loss_wall_2_0", "loss_wall_1_2"})
+    EXPECT_NE(log.find(column), std::string::npos) << column << " in " << log.substr(0, 400);
+  EXPECT_TRUE(fs::exists(dir / "run" / "images" / "transients" / "1.png")) << r.describe();
 }
 
 TEST(CliRenderScan, BadScanFilesNameTheFieldAndWriteNothing) {

@@ -583,6 +583,82 @@ TEST_F(TargetImages, UnreadableExrNamesTheFieldAndTheFile) {
   expectError([&] { loadTargetImage(x, 0); }, {kFile, "targets[0].image", (m_dir / "front.exr").string()});
 }
 
+// A scan target: sensor.json's point sensor and laser over a 3 x 2 grid, the cube written beside it.
+class ScanTargets : public test::TempDirTest {
+ protected:
+  void SetUp() override {
+    TempDirTest::SetUp();
+    test::writePlain(m_dir / "sensor.json", test::readAll(kData / "sensor.json"));
+    test::writePlain(m_dir / "scan.json", R"({"version": 1, "grid": {"corner": [-1, 1, -1], "across": [2, 0, 0],
+        "down": [0, 0, 1], "resolution": [3, 2], "lights": ["laser"]}})");
+  }
+  json experiment(const json& image) const {
+    return {{"version", 1},
+            {"scene", "sensor.json"},
+            {"parameters", {{{"name", "plane_y"}, {"truth", 0}}}},
+            {"targets", {{{"name", "wall"}, {"scan", "scan.json"}, {"gate", {{"spec", "bins:1.5,0.5,4"}}}, {"image", image}},
+                         {{"name", "single"}, {"image", {{"synthesize", json::object()}}}}}}};
+  }
+};
+
+TEST_F(ScanTargets, AScanIsOneTargetPerPointNamedByColumnAndRow) {
+  const Experiment x = parseExperimentJson(experiment({{"synthesize", {{"spp", 16}}}}).dump(), kFile, m_dir);
+  ASSERT_EQ(x.targets.size(), 7u);
+  for (uint32_t k = 0; k < 6; ++k) {
+    const Target& t = x.targets[k];
+    EXPECT_EQ(t.name, "wall_" + std::to_string(k % 3) + "_" + std::to_string(k / 3));
+    EXPECT_EQ(t.entry, 0u);
+    EXPECT_EQ(t.scanView, k);
+    EXPECT_EQ(t.gate.layers(), 4u);
+    const glm::vec3 point(-1.0f + float(k % 3), 1.0f, -1.0f + float(k / 3));
+    EXPECT_EQ(sceneForTarget(x.scene, t).camera.position, point);
+    EXPECT_EQ(sceneForTarget(x.scene, t).pointLights[0].position, point) << "the laser follows the sensor";
+    EXPECT_EQ(t.synthesizeSeed, 0x5eedu + k) << "the seeds a target per point would get";
+  }
+  EXPECT_EQ(x.targets[6].entry, 1u);
+  EXPECT_FALSE(x.targets[6].scanView);
+  EXPECT_EQ(x.targets[6].synthesizeSeed, 0x5eedu + 6);
+}
+
+TEST_F(ScanTargets, EachPointReadsItsPixelOfTheScanImage) {
+  // Pixel (i, j), bin b holds 100 j + 10 i + b.
+  ImageSet cube{3, 2, {}};
+  for (uint32_t b = 0; b < 4; ++b) {
+    cube.layers.push_back({"bin" + std::to_string(b), {}});
+    for (uint32_t j = 0; j < 2; ++j)
+      for (uint32_t i = 0; i < 3; ++i) cube.layers[b].pixels.push_back(float(100 * j + 10 * i + b));
+  }
+  writeExr(m_dir / "cube.exr", cube);
+  const Experiment x = parseExperimentJson(experiment("cube.exr").dump(), kFile, m_dir);
+  for (uint32_t k = 0; k < 6; ++k) {
+    const ImageSet point = loadTargetImage(x, k);
+    ASSERT_EQ(point.width * point.height, 1u);
+    ASSERT_EQ(point.layers.size(), 4u);
+    for (uint32_t b = 0; b < 4; ++b) EXPECT_EQ(point.layers[b].pixels[0], float(100 * (k / 3) + 10 * (k % 3) + b));
+  }
+  writeExr(m_dir / "cube.exr", filled(2, 3, 4, 1.0f));
+  expectError([&] { loadTargetImage(x, 4); },
+              {kFile, "targets[0].image", "target \"wall_1_1\"", "2x3 with 4 layers", "scan of 6 views",
+               "render 3x2 with 4 layers"});
+}
+
+TEST_F(ScanTargets, Errors) {
+  json j = experiment("cube.exr");
+  writeExr(m_dir / "cube.exr", filled(3, 2, 4, 1.0f));
+  j["targets"][0]["view"] = {{"position", {0, 1, 0}}};
+  expectError([&] { parseExperimentJson(j.dump(), kFile, m_dir); }, {"targets[0].scan", "a view or a scan, not both"});
+  j = experiment("cube.exr");
+  j["targets"][0]["scan"] = "absent.json";
+  expectError([&] { parseExperimentJson(j.dump(), kFile, m_dir); }, {"absent.json"});
+  test::writePlain(m_dir / "scan.json", R"({"version": 1, "grid": {"corner": [0, 1, 0], "resolution": [2, 1]}})");
+  expectError([&] { parseExperimentJson(experiment("cube.exr").dump(), kFile, m_dir); },
+              {(m_dir / "scan.json").string(), "grid.across", "non-zero"});
+  test::writePlain(m_dir / "scan.json", R"({"version": 1, "views": [{"position": [0, 1, 0]}, {"position": [0, 1, 0]}]})");
+  j = experiment("cube.exr");
+  j["targets"][1]["name"] = "wall_1";
+  expectError([&] { parseExperimentJson(j.dump(), kFile, m_dir); }, {"targets[1].name", "duplicate target name \"wall_1\""});
+}
+
 TEST_F(ExperimentFiles, MissingExperimentFile) {
   const fs::path missing = kData / "absent.json";
   expectError([&] { loadExperiment(missing); }, {missing.string(), "file not found"});

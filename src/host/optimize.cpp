@@ -206,7 +206,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
   for (size_t t = 0; t < e.targets.size(); ++t)
     if (e.targets[t].synthesize) {
       for (const ExperimentParameter& p : e.parameters)
-        if (!p.truth) fail(e.source.string(), "targets[" + std::to_string(t) + "].image", "synthesising needs a truth for every parameter; \"" + p.name + "\" has none");
+        if (!p.truth) fail(e.source.string(), "targets[" + std::to_string(e.targets[t].entry) + "].image", "synthesising needs a truth for every parameter; \"" + p.name + "\" has none");
     } else {
       targets[t] = loadTargetImage(e, t);
     }
@@ -225,7 +225,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       checkRenderMemory(context, filmAndBatchNeed(pixels.x, pixels.y, setups[t].setup.gate.layers(), 1, 0),
                         info.memoryBudget);
     } catch (const Error& tooLarge) {
-      fail(e.source.string(), "targets[" + std::to_string(t) + "]", tooLarge.what());
+      fail(e.source.string(), "targets[" + std::to_string(e.targets[t].entry) + "]", tooLarge.what());
     }
   }
   if (!options.resume) {

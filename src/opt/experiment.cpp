@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "scene/scene_values.h"
+#include "scene/scan.h"
 #include "scene/scene_view.h"
 #include "vktg/error.h"
 
@@ -25,6 +26,8 @@ constexpr uint32_t kMaxSpp = 1u << 30;
 constexpr uint32_t kMaxDepth = 1024;
 constexpr uint32_t kMaxUint32 = std::numeric_limits<uint32_t>::max();
 constexpr uint32_t kSynthesizeSeedBase = 0x5eed;
+// Targets after scans are expanded: each is a log column and a render view.
+constexpr size_t kMaxTargets = 1u << 16;
 constexpr size_t kUnselected = std::numeric_limits<size_t>::max();
 
 std::string inQuotes(const std::string& text) { return "\"" + text + "\""; }
@@ -114,24 +117,54 @@ class ExperimentParser {
     const Json& array = value.array();
     if (array.empty()) value.fail("no targets: give at least one (view, gate, image)");
     std::set<std::string> names;
-    for (size_t i = 0; i < array.size(); ++i) m_x.targets.push_back(parseTarget(value.element(i), i, names));
+    for (size_t i = 0; i < array.size(); ++i) parseTarget(value.element(i), i, names);
+    if (m_x.targets.size() > kMaxTargets)
+      value.fail(std::to_string(m_x.targets.size()) + " targets (scan points included); at most " +
+                 std::to_string(kMaxTargets));
   }
 
-  Target parseTarget(const JsonValue& value, size_t index, std::set<std::string>& names) {
-    const JsonObject o(value, {"name", "view", "gate", "image", "weight"});
+  // One target, or one per point of a "scan" (named <name>_<column>_<row> for a grid, <name>_<k>
+  // for a list of views; synthesised ones with consecutive seeds).
+  void parseTarget(const JsonValue& value, size_t entry, std::set<std::string>& names) {
+    const JsonObject o(value, {"name", "view", "scan", "gate", "image", "weight"});
     Target target;
-    target.name = o.string("name", "target_" + std::to_string(index));
+    target.entry = entry;
+    target.name = o.string("name", "target_" + std::to_string(entry));
     const JsonValue nameWhere = o.has("name") ? o.field("name") : value;
     if (!isValidParameterName(target.name))
       nameWhere.fail("invalid target name " + inQuotes(target.name) +
                      " (use letters, digits, '_', '-' and '.': it names files and log columns)");
-    if (!names.insert(target.name).second) nameWhere.fail("duplicate target name " + inQuotes(target.name));
+    if (o.has("view") && o.has("scan")) o.field("scan").fail("a target takes a view or a scan, not both");
     if (o.has("view")) target.view = parseSceneView(o.field("view"), m_x.scene);
     target.gate = o.has("gate") ? parseGateValue(o.field("gate")) : m_x.scene.gate;
     target.weight = o.number("weight", target.weight);
     if (o.has("weight")) requireAbove(o.field("weight"), target.weight, 0.0);
-    parseImage(o.field("image"), index, target);
-    return target;
+    parseImage(o.field("image"), m_x.targets.size(), target);
+    if (!o.has("scan")) {
+      addTarget(std::move(target), nameWhere, names);
+      return;
+    }
+    const JsonValue scanField = o.field("scan");
+    const std::string path = scanField.string();
+    if (path.empty()) scanField.fail("empty path: name a scan file (relative to this file's folder)");
+    const Scan scan = loadScan(m_baseDir / path, m_x.scene);
+    for (size_t k = 0; k < scan.views.size(); ++k) {
+      Target point = target;
+      const uint32_t column = uint32_t(k % scan.columns), row = uint32_t(k / scan.columns);
+      point.name += scan.grid ? "_" + std::to_string(column) + "_" + std::to_string(row) : "_" + std::to_string(k);
+      point.view = scan.views[k];
+      point.scanView = uint32_t(k);
+      point.scanViews = uint32_t(scan.views.size());
+      point.scanColumns = scan.columns;
+      point.scanRows = scan.rows;
+      if (point.synthesize) point.synthesizeSeed = target.synthesizeSeed + uint32_t(k);
+      addTarget(std::move(point), nameWhere, names);
+    }
+  }
+
+  void addTarget(Target target, const JsonValue& nameWhere, std::set<std::string>& names) {
+    if (!names.insert(target.name).second) nameWhere.fail("duplicate target name " + inQuotes(target.name));
+    m_x.targets.push_back(std::move(target));
   }
 
   void parseImage(const JsonValue& value, size_t index, Target& target) {
@@ -511,7 +544,7 @@ class ExperimentParser {
       if (!m_x.targets[t].synthesize) continue;
       for (size_t i = 0; i < m_x.parameters.size(); ++i)
         if (!m_x.parameters[i].truth)
-          vktg::fail(m_file, "targets[" + std::to_string(t) + "].image.synthesize",
+          vktg::fail(m_file, "targets[" + std::to_string(m_x.targets[t].entry) + "].image.synthesize",
                      "rendering the target needs the true value of every parameter, but parameters[" +
                          std::to_string(m_entryOf[i]) + "] (" + inQuotes(m_x.parameters[i].name) + ") has no \"truth\"");
     }

@@ -40,6 +40,13 @@ struct Target {
   bool synthesize = false;          // ... or rendered at the truth with independent random numbers
   uint32_t synthesizeSpp = 4096;
   uint32_t synthesizeSeed = 0x5eed;  // the parser's default: 0x5eed + the target's index
+  // The "targets" entry this target comes from: a "scan" entry makes one target per scan point.
+  size_t entry = 0;
+  // A scan point's target: its view of the scan, of scanViews, whose image is laid out as `vktg
+  // render --scan` writes it (scanColumns x scanRows pixels at a point sensor; the views' images
+  // one below the other behind a pinhole); `image` is that whole image.
+  std::optional<uint32_t> scanView;
+  uint32_t scanViews = 0, scanColumns = 0, scanRows = 0;
 };
 
 enum class LossType { L2, L1, RelativeL2 };

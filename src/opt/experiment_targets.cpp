@@ -20,7 +20,30 @@ std::string describeImage(const Target& target) {
 }
 
 [[noreturn]] void failTarget(const Experiment& experiment, size_t target, const std::string& problem) {
-  fail(experiment.source.string(), imageField(target), "target \"" + experiment.targets[target].name + "\": " + problem);
+  const Target& t = experiment.targets[target];
+  fail(experiment.source.string(), imageField(t.entry), "target \"" + t.name + "\": " + problem);
+}
+
+// View `t.scanView`'s image out of the whole scan's (laid out as `vktg render --scan` writes it),
+// after checking the whole image's size against the scan, the camera and the gate.
+ImageSet scanPointImage(const Experiment& experiment, size_t target, const ImageSet& whole) {
+  const Target& t = experiment.targets[target];
+  const Camera& camera = experiment.scene.camera;
+  const bool sensor = camera.type == CameraType::PointSensor;
+  const uint32_t width = sensor ? t.scanColumns : imagePixels(camera).x;
+  const uint32_t viewHeight = sensor ? 1 : imagePixels(camera).y, height = sensor ? t.scanRows : viewHeight * t.scanViews;
+  if (whole.width != width || whole.height != height || whole.layers.size() != t.gate.layers())
+    failTarget(experiment, target,
+               t.image.string() + " is " + describeShape(whole.width, whole.height, whole.layers.size()) +
+                   ", but its scan of " + std::to_string(t.scanViews) + " views and its gate render " +
+                   describeShape(width, height, t.gate.layers()) + " (gate: " + t.gate.describe() + ")");
+  checkTargetImageSize(experiment, target, whole, width, height, t.gate.layers());  // the layers' pixel counts
+  ImageSet point{imagePixels(camera).x, viewHeight, {}};
+  if (sensor) point.width = 1;
+  const size_t pixels = size_t(point.width) * point.height, first = size_t(*t.scanView) * pixels;
+  for (const ImageLayer& layer : whole.layers)
+    point.layers.push_back({layer.name, std::vector<float>(layer.pixels.begin() + first, layer.pixels.begin() + first + pixels)});
+  return point;
 }
 
 }  // namespace
@@ -81,6 +104,7 @@ ImageSet loadTargetImage(const Experiment& experiment, size_t target) {
   } catch (const Error& e) {
     fail(experiment.source.string(), imageField(target), e.what());
   }
+  if (t.scanView) image = scanPointImage(experiment, target, image);
   // A view moves the camera but never changes its resolution.
   const Camera& camera = experiment.scene.camera;
   checkTargetImageSize(experiment, target, image, imagePixels(camera).x, imagePixels(camera).y, t.gate.layers());

@@ -23,6 +23,7 @@ Scan parseGrid(const JsonValue& value, const Scene& scene) {
   const JsonObject o(value, {"corner", "across", "down", "resolution", "normal", "look_at", "up", "lights"});
   o.field("resolution").numbers(2);  // two numbers; each an integer in range below
   Scan scan;
+  scan.grid = true;
   for (size_t k = 0; k < 2; ++k) {
     const JsonValue r = o.field("resolution").element(k);
     (k == 0 ? scan.columns : scan.rows) = r.uinteger(1, kMaxScanViews);

@@ -18,6 +18,7 @@ inline constexpr uint32_t kMaxScanViews = 1u << 20;
 struct Scan {
   std::vector<SceneView> views;  // row by row: view j * columns + i is grid point (i, j)
   uint32_t columns = 0, rows = 0;  // a grid's resolution; a list of views is one row
+  bool grid = false;               // a grid (points named by column and row) or a list of views
 };
 
 // {"version": 1, "grid": {...}} or {"version": 1, "views": [...]} against `scene` (its camera type
