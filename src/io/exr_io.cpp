@@ -21,6 +21,7 @@
 #include <fstream>
 #include <map>
 #include <new>
+#include <utility>
 
 #include "io/io_internal.h"
 #include "vktg/error.h"
@@ -123,11 +124,8 @@ void applyRecordedOrder(const Imf::Header& header, ImageSet& images) {
   images.layers = std::move(ordered);
 }
 
-ImageSet decodeExr(const fs::path& path, const std::string& bytes) {
-  const std::string name = path.string();
-  MemoryIStream stream(name, bytes);
-  Imf::InputFile file(stream, 1);
-  const Imf::Header& header = file.header();
+// The data window's width and height, refused when empty or beyond kMaxDimension.
+std::pair<int64_t, int64_t> checkedSize(const std::string& name, const Imf::Header& header) {
   const Imath::Box2i window = header.dataWindow();
   const int64_t width = int64_t(window.max.x) - window.min.x + 1;
   const int64_t height = int64_t(window.max.y) - window.min.y + 1;
@@ -135,6 +133,27 @@ ImageSet decodeExr(const fs::path& path, const std::string& bytes) {
   if (width > kMaxDimension || height > kMaxDimension) {
     fail(name, "dataWindow", "image too large (" + std::to_string(width) + "x" + std::to_string(height) + ")");
   }
+  return {width, height};
+}
+
+ImageSet decodeExr(const fs::path& path, const std::string& bytes) {
+  const std::string name = path.string();
+  {
+    // The header alone first: opening the file sizes its decompression buffers by the data window,
+    // so a few hundred bytes declaring a 10^7-pixel-wide image would allocate gigabytes.
+    MemoryIStream headerStream(name, bytes);
+    headerStream.seekg(8);  // past the magic number and the version field (checked by readExr)
+    int version = 0;  // little-endian in the file
+    for (int k = 7; k >= 4; --k) version = int(unsigned(version) << 8 | uint8_t(bytes[size_t(k)]));
+    Imf::Header declared;
+    declared.readFrom(headerStream, version);
+    checkedSize(name, declared);
+  }
+  MemoryIStream stream(name, bytes);
+  Imf::InputFile file(stream, 1);
+  const Imf::Header& header = file.header();
+  const Imath::Box2i window = header.dataWindow();
+  const auto [width, height] = checkedSize(name, header);
 
   ImageSet images;
   images.width = uint32_t(width);
