@@ -226,6 +226,72 @@ void writeExr(const fs::path& path, const ImageSet& images) {
 // OpenEXR trusts the sizes a header declares: a few hundred bytes claiming a gigabyte-sized
 // attribute make it allocate that much before it notices the file is short (found by fuzzing).
 // Every attribute (name, type, int32 size, value) must fit in the file; checked before decoding.
+static uint32_t littleEndian32(const std::string& bytes, size_t at) {
+  uint32_t value = 0;
+  for (int k = 3; k >= 0; --k) value = (value << 8) | uint8_t(bytes[at + size_t(k)]);
+  return value;
+}
+
+// Bytes a value of each fixed-size attribute type holds. OpenEXR reads that many whatever size the
+// attribute declares, and then reads the next attribute from where it stopped, so a declared size
+// that differs would let the rest of the header be parsed from inside this attribute, out of
+// step with the checks here.
+static int fixedAttributeSize(const std::string& type) {
+  static const std::map<std::string, int> sizes = {
+      {"box2i", 16}, {"box2f", 16}, {"chromaticities", 32}, {"compression", 1}, {"deepImageState", 1},
+      {"double", 8}, {"envmap", 1}, {"float", 4}, {"int", 4}, {"keycode", 28}, {"lineOrder", 1},
+      {"m33f", 36}, {"m33d", 72}, {"m44f", 64}, {"m44d", 128}, {"rational", 8}, {"tiledesc", 9},
+      {"timecode", 8}, {"v2i", 8}, {"v2f", 8}, {"v2d", 16}, {"v3i", 12}, {"v3f", 12}, {"v3d", 24}};
+  const auto found = sizes.find(type);
+  return found == sizes.end() ? -1 : found->second;
+}
+
+// Checks an attribute's value against what OpenEXR will read of it: fixed-size types hold exactly
+// their size, a channel list ends (with its empty name) exactly at the declared size, and the
+// lengths OpenEXR allocates for before reading stay inside the attribute: each string of a
+// "stringvector" and a "preview" image (width x height RGBA8 pixels). A hostile header declaring
+// gigabytes there within a few bytes would otherwise be allocated for.
+static void checkAttributeContents(const fs::path& path, const std::string& bytes, const std::string& name,
+                                   const std::string& type, size_t at, uint32_t size) {
+  const size_t end = at + size;
+  const std::string held = std::to_string(size) + " bytes";
+  auto bad = [&](const std::string& problem) {
+    fail(path.string(), "header", "attribute \"" + name + "\" (" + type + "): " + problem);
+  };
+  if (const int fixed = fixedAttributeSize(type); fixed >= 0) {
+    if (size != uint32_t(fixed)) bad("declares " + held + ", but a " + type + " holds " + std::to_string(fixed));
+  } else if (type == "chlist") {
+    size_t p = at;
+    for (;;) {  // entries: a name, pixel type, pLinear, 3 reserved bytes, x and y sampling
+      const size_t nameEnd = bytes.find('\0', p);
+      if (nameEnd == std::string::npos || nameEnd >= end) bad("its channel list does not end within its " + held);
+      if (nameEnd == p) {
+        p = nameEnd + 1;
+        break;
+      }
+      p = nameEnd + 1 + 16;
+      if (p > end) bad("its channel list does not end within its " + held);
+    }
+    if (p != end) bad("its channel list ends after " + std::to_string(p - at) + " of its " + held);
+  } else if (type == "stringvector") {
+    for (size_t k = 0, p = at; p < end; ++k) {
+      if (end - p < 4) bad("string " + std::to_string(k) + " has a truncated length");
+      const int32_t length = int32_t(littleEndian32(bytes, p));
+      p += 4;
+      if (length < 0 || uint64_t(length) > end - p)
+        bad("string " + std::to_string(k) + " declares " + std::to_string(length) + " bytes, more than its " + held +
+            " hold");
+      p += size_t(length);
+    }
+  } else if (type == "preview") {
+    if (size < 8) bad("a preview needs at least 8 bytes, not " + held);
+    const uint64_t width = littleEndian32(bytes, at), height = littleEndian32(bytes, at + 4);
+    if (width * height * 4 > size - 8)
+      bad("its " + std::to_string(width) + " x " + std::to_string(height) + " preview needs " +
+          std::to_string(width * height * 4 + 8) + " bytes, more than its " + held);
+  }
+}
+
 static void checkHeaderSizes(const fs::path& path, const std::string& bytes) {
   const bool multipart = (uint8_t(bytes[5]) & 0x10) != 0;  // version field bit 12
   size_t at = 8;
@@ -244,14 +310,14 @@ static void checkHeaderSizes(const fs::path& path, const std::string& bytes) {
       continue;
     }
     const std::string name = cString("name");
-    cString("type");
+    const std::string type = cString("type");
     if (bytes.size() - at < 4) fail(path.string(), "header", "truncated in attribute \"" + name + "\"");
-    uint32_t size = 0;
-    for (int k = 3; k >= 0; --k) size = (size << 8) | uint8_t(bytes[at + size_t(k)]);
+    const uint32_t size = littleEndian32(bytes, at);
     at += 4;
     if (size > bytes.size() - at)
       fail(path.string(), "header", "attribute \"" + name + "\" declares " + std::to_string(size) + " bytes but only " +
                                         std::to_string(bytes.size() - at) + " remain in the file");
+    checkAttributeContents(path, bytes, name, type, at, size);
     at += size;
   }
 }
