@@ -33,6 +33,9 @@ std::array<uint8_t, 3> divergingColor(float t);
 // edges average what they cover, non-finite pixels count as 0.
 std::vector<float> downsample(const std::vector<float>& pixels, uint32_t width, uint32_t height, uint32_t factor,
                               uint32_t tileWidth, uint32_t tileHeight);
+// The same with a factor per axis (columns by factorX, rows by factorY).
+std::vector<float> downsample(const std::vector<float>& pixels, uint32_t width, uint32_t height, uint32_t factorX,
+                              uint32_t factorY, uint32_t tileWidth, uint32_t tileHeight);
 
 // A short lower-case description of an errno value for user-facing messages.
 std::string describeErrno(int error);

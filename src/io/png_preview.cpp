@@ -73,13 +73,18 @@ uint8_t radianceGrey(float value, float exposure) {
 
 std::vector<float> downsample(const std::vector<float>& pixels, uint32_t width, uint32_t height, uint32_t factor,
                               uint32_t tileWidth, uint32_t tileHeight) {
+  return downsample(pixels, width, height, factor, factor, tileWidth, tileHeight);
+}
+
+std::vector<float> downsample(const std::vector<float>& pixels, uint32_t width, uint32_t height, uint32_t factorX,
+                              uint32_t factorY, uint32_t tileWidth, uint32_t tileHeight) {
   std::vector<float> tile(size_t(tileWidth) * tileHeight);
   for (uint32_t ty = 0; ty < tileHeight; ++ty) {
     for (uint32_t tx = 0; tx < tileWidth; ++tx) {
       double sum = 0.0;
       uint32_t count = 0;
-      for (uint32_t y = ty * factor; y < std::min(height, (ty + 1) * factor); ++y) {
-        for (uint32_t x = tx * factor; x < std::min(width, (tx + 1) * factor); ++x) {
+      for (uint32_t y = ty * factorY; y < std::min(height, (ty + 1) * factorY); ++y) {
+        for (uint32_t x = tx * factorX; x < std::min(width, (tx + 1) * factorX); ++x) {
           const float v = pixels[size_t(y) * width + x];
           sum += std::isfinite(v) ? v : 0.0f;
           ++count;

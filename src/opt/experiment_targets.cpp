@@ -37,7 +37,6 @@ ImageSet scanPointImage(const Experiment& experiment, size_t target, const Image
                t.image.string() + " is " + describeShape(whole.width, whole.height, whole.layers.size()) +
                    ", but its scan of " + std::to_string(t.scanViews) + " views and its gate render " +
                    describeShape(width, height, t.gate.layers()) + " (gate: " + t.gate.describe() + ")");
-  checkTargetImageSize(experiment, target, whole, width, height, t.gate.layers());  // the layers' pixel counts
   ImageSet point{imagePixels(camera).x, viewHeight, {}};
   if (sensor) point.width = 1;
   const size_t pixels = size_t(point.width) * point.height, first = size_t(*t.scanView) * pixels;

@@ -331,23 +331,9 @@ void writeTransientScan(const fs::path& path, uint32_t rows, uint32_t bins,
   uint32_t shrinkX, magnifyX, shownX, shrinkY, magnifyY, shownY;
   scale(bins, shrinkX, magnifyX, shownX);
   scale(rows, shrinkY, magnifyY, shownY);
-  auto blockAverage = [&](const std::vector<float>& values) {
-    std::vector<float> out(size_t(shownX) * shownY, 0.0f);
-    for (uint32_t y = 0; y < shownY; ++y)
-      for (uint32_t x = 0; x < shownX; ++x) {
-        double sum = 0;
-        uint32_t count = 0;
-        for (uint32_t r = y * shrinkY; r < std::min(rows, (y + 1) * shrinkY); ++r)
-          for (uint32_t b = x * shrinkX; b < std::min(bins, (x + 1) * shrinkX); ++b, ++count) {
-            const float v = values[size_t(r) * bins + b];
-            if (std::isfinite(v)) sum += v;
-          }
-        out[size_t(y) * shownX + x] = float(sum / count);
-      }
-    return out;
-  };
   std::vector<std::vector<float>> shown;
-  for (const auto& panel : panels) shown.push_back(blockAverage(panel.second));
+  for (const auto& panel : panels)
+    shown.push_back(io::downsample(panel.second, bins, rows, shrinkX, shrinkY, shownX, shownY));
   std::vector<const std::vector<float>*> layers;
   for (const std::vector<float>& values : shown) layers.push_back(&values);
   const float exposure = io::radianceExposure(layers);  // before the difference joins: brightness only

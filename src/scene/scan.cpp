@@ -1,6 +1,5 @@
 #include "scene/scan.h"
 
-#include <algorithm>
 #include <cmath>
 #include <tuple>
 
@@ -48,11 +47,7 @@ Scan parseGrid(const JsonValue& value, const Scene& scene) {
     const JsonValue names = o.field("lights");
     for (size_t k = 0; k < names.array().size(); ++k) {
       const JsonValue name = names.element(k);
-      const std::string text = name.string();
-      const auto& lights = scene.pointLights;
-      const auto light = std::find_if(lights.begin(), lights.end(), [&](const PointLight& l) { return l.name == text; });
-      if (light == lights.end()) name.fail("unknown point light \"" + text + "\"");
-      following.push_back(uint32_t(light - lights.begin()));
+      following.push_back(pointLightIndex(name, scene, name.string()));
     }
   }
   const bool perspective = scene.camera.type == CameraType::Perspective;

@@ -12,23 +12,27 @@ std::string inQuotes(const std::string& text) { return "\"" + text + "\""; }
 std::vector<std::pair<uint32_t, glm::vec3>> parseLightPositions(const JsonValue& value, const Scene& scene) {
   if (!value.json().is_object())
     value.fail("wrong type: expected an object mapping point-light names to positions [x, y, z]");
-  const std::vector<PointLight>& lights = scene.pointLights;
   std::vector<std::pair<uint32_t, glm::vec3>> positions;
   for (const auto& item : value.json().items()) {
     const JsonValue entry{&item.value(), value.file, value.path + "." + item.key()};
-    const auto light = std::find_if(lights.begin(), lights.end(), [&](const PointLight& l) { return l.name == item.key(); });
-    if (light == lights.end()) {
-      std::string known;
-      for (const PointLight& l : lights) known += (known.empty() ? "" : ", ") + l.name;
-      entry.fail("unknown point light " + inQuotes(item.key()) +
-                 (known.empty() ? " (the scene has no point lights)" : " (the scene's point lights: " + known + ")"));
-    }
-    positions.emplace_back(uint32_t(light - lights.begin()), entry.vec3());
+    positions.emplace_back(pointLightIndex(entry, scene, item.key()), entry.vec3());
   }
   return positions;
 }
 
 }  // namespace
+
+uint32_t pointLightIndex(const JsonValue& where, const Scene& scene, const std::string& name) {
+  const std::vector<PointLight>& lights = scene.pointLights;
+  const auto light = std::find_if(lights.begin(), lights.end(), [&](const PointLight& l) { return l.name == name; });
+  if (light == lights.end()) {
+    std::string known;
+    for (const PointLight& l : lights) known += (known.empty() ? "" : ", ") + l.name;
+    where.fail("unknown point light " + inQuotes(name) +
+               (known.empty() ? " (the scene has no point lights)" : " (the scene's point lights: " + known + ")"));
+  }
+  return uint32_t(light - lights.begin());
+}
 
 // A view overrides the pose of the scene's camera (fields that fit its type) and moves point lights.
 SceneView parseSceneView(const JsonValue& value, const Scene& scene) {

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -26,6 +27,10 @@ struct SceneView {
 // scene's camera; every error names the field: a field for the other camera type, a degenerate pose
 // (look_at at the position, up zero or along the view direction, a zero normal), an unknown light.
 SceneView parseSceneView(const JsonValue& value, const Scene& scene);
+
+// The index in scene.pointLights of the light called `name`; an unknown name fails at `where`,
+// listing the scene's point lights.
+uint32_t pointLightIndex(const JsonValue& where, const Scene& scene, const std::string& name);
 
 // `camera` moved as `view` says (its type, image size and field of view stay).
 Camera cameraSeenFrom(const Camera& camera, const SceneView& view);
