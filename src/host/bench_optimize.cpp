@@ -168,29 +168,36 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     for (size_t v = 0; v < std::size(variants); ++v)
       *variants[v].seconds = terms[v].empty() ? std::nan("") : median(terms[v]);
 
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "  render %.4f s; adjoint gradient of all %llu heights: interior %.2fx, edges %.2fx, path-length "
+                  "boundary %.2fx, all %.2fx (%.2fx tracing the interior and boundary terms apart) the render; update %.4f s (+ %.4f s SAH check); iteration %.2fx",
+                  row.renderSeconds, (unsigned long long)row.parameters, row.interiorSeconds / row.renderSeconds,
+                  row.edgeSeconds / row.renderSeconds, row.boundarySeconds / row.renderSeconds,
+                  row.allSeconds / row.renderSeconds, row.allApartSeconds / row.renderSeconds, row.updateSeconds,
+                  row.checkSeconds, row.iterationSeconds() / row.renderSeconds);
+    options.say(line);
+    // The adjoint figures are kept before the forward-mode contrast, which builds the scene again for
+    // every run (tens of seconds at 10^6 heights), so a run stopped there keeps them.
+    row.denseSeconds = std::nan("");
+    report.rows.push_back(row);
+    if (rowDone) rowDone(report);
+
     // Forward-mode lanes for a few heights: their passes' time (the scene build excluded).
-    row.denseLanes = uint32_t(std::min<uint64_t>(8, row.parameters));
+    BenchOptimizeRow& kept = report.rows.back();
+    kept.denseLanes = uint32_t(std::min<uint64_t>(8, row.parameters));
     std::vector<std::string> names;
-    for (uint32_t k = 0; k < row.denseLanes; ++k) names.push_back(scene.parameters[(k * 7919u) % row.parameters].name);
+    for (uint32_t k = 0; k < kept.denseLanes; ++k) names.push_back(scene.parameters[(k * 7919u) % row.parameters].name);
     GradientOptions dense;
     dense.render = renderOptions;
     dense.pathLength = options.pathLength;  // the same terms as the adjoint gradients
     std::vector<double> denseTimes;
     for (uint32_t run = 0; run < options.runs; ++run)
       denseTimes.push_back(renderGradient(renderer, scene, names, dense).stats.seconds);
-    row.denseSeconds = median(denseTimes);
-
-    char line[512];
-    std::snprintf(line, sizeof line,
-                  "  render %.4f s; adjoint gradient of all %llu heights: interior %.2fx, edges %.2fx, path-length "
-                  "boundary %.2fx, all %.2fx (%.2fx tracing the interior and boundary terms apart) the render; update %.4f s (+ %.4f s SAH check); iteration %.2fx; forward lanes for %u heights %.2fx",
-                  row.renderSeconds, (unsigned long long)row.parameters, row.interiorSeconds / row.renderSeconds,
-                  row.edgeSeconds / row.renderSeconds, row.boundarySeconds / row.renderSeconds,
-                  row.allSeconds / row.renderSeconds, row.allApartSeconds / row.renderSeconds, row.updateSeconds,
-                  row.checkSeconds, row.iterationSeconds() / row.renderSeconds, row.denseLanes,
-                  row.denseSeconds / row.renderSeconds);
+    kept.denseSeconds = median(denseTimes);
+    std::snprintf(line, sizeof line, "  forward lanes for %u heights %.2fx the render", kept.denseLanes,
+                  kept.denseSeconds / kept.renderSeconds);
     options.say(line);
-    report.rows.push_back(row);
     if (rowDone) rowDone(report);
   }
   return report;
