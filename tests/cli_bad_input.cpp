@@ -345,6 +345,11 @@ TEST_F(CliBadInput, UnknownSceneAccess) {
                      {{"VKTG_SCENE_ACCESS", "stream"}});
 }
 
+TEST_F(CliBadInput, UnknownDeviceMemory) {
+  expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_DEVICE_MEMORY", "'host'"},
+                     {{"VKTG_DEVICE_MEMORY", "host"}});
+}
+
 TEST_F(CliBadInput, OutIsADirectory) {
   fs::create_directory(m_dir / "taken.exr");
   expectCleanFailure({"render", "--out", (m_dir / "taken.exr").string()}, {"taken.exr", "directory"});

@@ -16,6 +16,7 @@
 
 #include "host/gradient.h"
 #include "support/render_test.h"
+#include "support/scoped_env.h"
 #include "vktg/parameter_model.h"
 #include "vktg/scene.h"
 
@@ -169,6 +170,41 @@ TEST(GradAdjoint, OverflowingAccumulatorsAreRescaled) {
   for (double g : reference.theta) largest = std::max(largest, std::abs(g));
   ASSERT_GT(largest, 0.0);
   for (size_t k = 0; k < names.size(); ++k) EXPECT_NEAR(rescaled.theta[k], reference.theta[k], 1e-6 * largest) << names[k];
+}
+
+// The accumulators reach the host directly where the device's memory is mapped and cached, through a
+// staging copy where it is not (VKTG_DEVICE_MEMORY=staged forces that on any device): the integer
+// sums are the same, so the gradient is the same bit for bit.
+TEST(GradAdjoint, StagedDeviceMemoryGivesTheSameGradient) {
+  const Scene scene = roomScene();
+  const std::vector<std::string> names = {"block_x", "bulb_y", "floor_albedo", "t0"};
+  std::vector<uint32_t> indices;
+  for (const std::string& n : names) indices.push_back(findParameter(scene, n));
+  ParameterModel model(scene, indices);
+  std::vector<double> theta(model.size(), 0.0);
+  const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
+  const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
+  AdjointState settled;
+  LossGradient mapped;
+  {
+    Renderer renderer(test::testRenderer().context());
+    DeviceScene deviceScene(renderer.context(), model, theta, theta);
+    lossGradient(renderer, deviceScene, {view}, options(8, 8), settled);
+    AdjointState state;
+    state.scale = settled.scale;
+    mapped = lossGradient(renderer, deviceScene, {view}, options(8, 8), state);
+    ASSERT_EQ(mapped.attempts, 1u);
+  }
+  test::ScopedEnv env("VKTG_DEVICE_MEMORY", "staged");
+  Renderer renderer(test::testRenderer().context());
+  DeviceScene deviceScene(renderer.context(), model, theta, theta);
+  AdjointState state;
+  state.scale = settled.scale;
+  const LossGradient staged = lossGradient(renderer, deviceScene, {view}, options(8, 8), state);
+  ASSERT_FALSE(state.accumulator->buffer().hostReadable());
+  ASSERT_EQ(staged.attempts, 1u);
+  for (size_t k = 0; k < names.size(); ++k) EXPECT_EQ(staged.theta[k], mapped.theta[k]) << names[k];
+  EXPECT_NE(mapped.theta[0], 0.0);
 }
 
 // A heightfield (four of its heights) under a near-delta gaussian with ellipsoidal connections and

@@ -18,6 +18,7 @@
 #include "host/memory_preflight.h"
 #include "support/gpu_context.h"
 #include "support/render_test.h"
+#include "support/scoped_env.h"
 #include "vktg/parameters.h"
 
 namespace vktg::test {
@@ -91,6 +92,31 @@ TEST(RenderMemory, DefaultBudgetFollowsTheDevice) {
     EXPECT_LE(budget, 4096ull << 20);
     EXPECT_LE(budget, std::max<uint64_t>(512ull << 20, device / 4));
   }
+}
+
+// Device memory that the host cannot read directly (unmapped, as VKTG_DEVICE_MEMORY=staged forces
+// on any device, or mapped uncached on a GPU) goes both ways through staging copies: whole, from an
+// offset, and through a staging buffer the caller keeps.
+TEST(RenderMemory, StagedDeviceMemoryRoundTrips) {
+  const VulkanContext& context = testContext();
+  test::ScopedEnv staged("VKTG_DEVICE_MEMORY", "staged");
+  Buffer buffer(context, 1 << 20, MemoryKind::Device, "staged");
+  ASSERT_EQ(buffer.mapped(), nullptr);
+  ASSERT_FALSE(buffer.hostReadable());
+  std::vector<uint32_t> data(buffer.size() / 4);
+  for (size_t i = 0; i < data.size(); ++i) data[i] = uint32_t(i * 2654435761u);
+  buffer.upload(context, data.data(), buffer.size());
+  std::vector<uint32_t> back(data.size());
+  buffer.download(context, back.data(), buffer.size());
+  EXPECT_EQ(back, data);
+  Buffer keep(context, 1 << 19, MemoryKind::Readback, "staging kept");
+  ASSERT_TRUE(keep.hostReadable());
+  std::vector<uint32_t> part(1000);
+  buffer.download(context, part.data(), part.size() * 4, 4 * 5000, &keep);
+  EXPECT_TRUE(std::equal(part.begin(), part.end(), data.begin() + 5000));
+  std::vector<uint32_t> whole(data.size());
+  buffer.download(context, whole.data(), buffer.size(), 0, &keep);  // too small to keep: a fresh one
+  EXPECT_EQ(whole, data);
 }
 
 // Successive sets of per-render buffers share one block: it is allocated again only to grow, and

@@ -33,30 +33,33 @@ uint32_t adjointTargets(const ParameterModel& model) {
 
 GradientAccumulator::GradientAccumulator(const VulkanContext& context, const GradientLayout& layout)
     : m_context(context), m_layout(layout),
-      m_buffer(context, uint64_t(layout.total) * sizeof(int64_t), MemoryKind::Device, "adjoint.gradient") {
+      m_buffer(context, uint64_t(layout.total) * sizeof(int64_t), MemoryKind::Device, "adjoint.gradient"),
+      m_host(layout.total, 0) {
+  if (!m_buffer.hostReadable())
+    m_readback = Buffer(context, m_buffer.size(), MemoryKind::Readback, "adjoint.gradient.readback");
   clear();
 }
 
 void GradientAccumulator::clear() {
-  std::vector<int64_t> zeros(m_layout.total, 0);
-  m_buffer.upload(m_context, zeros.data(), zeros.size() * sizeof(int64_t));
+  CommandBuffer cmd(m_context, "clear adjoint.gradient");
+  cmd.begin();
+  vkCmdFillBuffer(cmd.get(), m_buffer.handle(), 0, VK_WHOLE_SIZE, 0);
+  cmd.end();
+  m_context.submitAndWait(cmd.get());
 }
 
-std::vector<int64_t> GradientAccumulator::download() const {
-  std::vector<int64_t> raw(m_layout.total);
-  m_buffer.download(m_context, raw.data(), raw.size() * sizeof(int64_t));
-  return raw;
+void GradientAccumulator::download() {
+  m_buffer.download(m_context, m_host.data(), m_host.size() * sizeof(int64_t), 0, m_readback ? &m_readback : nullptr);
 }
 
 double GradientAccumulator::largestMagnitude() const {
   double largest = 0;
-  for (int64_t v : download()) largest = std::max(largest, std::abs(double(v)));
+  for (int64_t v : m_host) largest = std::max(largest, std::abs(double(v)));
   return largest;
 }
 
 SceneGradient GradientAccumulator::read(const Scene& scene, double scale) const {
-  const std::vector<int64_t> raw = download();
-  auto at = [&](uint32_t slot) { return double(raw.at(slot)) / scale; };
+  auto at = [&](uint32_t slot) { return double(m_host.at(slot)) / scale; };
   SceneGradient g;
   g.resize(scene);
   if (g.vertices.size() * 3 + m_layout.vertices != m_layout.total)

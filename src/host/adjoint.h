@@ -28,6 +28,8 @@ class GradientAccumulator {
  public:
   GradientAccumulator(const VulkanContext& context, const GradientLayout& layout);
   void clear();
+  // Copies the accumulators to the host; read() and largestMagnitude() use that copy.
+  void download();
   // The accumulated gradient, divided by `scale`, with respect to `scene`'s quantities.
   SceneGradient read(const Scene& scene, double scale) const;
   // The largest accumulator magnitude, in units of the accumulator (to choose the next scale).
@@ -36,10 +38,13 @@ class GradientAccumulator {
   const GradientLayout& layout() const { return m_layout; }
 
  private:
-  std::vector<int64_t> download() const;
   const VulkanContext& m_context;
   GradientLayout m_layout;
   Buffer m_buffer;
+  // Where the host reads the accumulators through when it cannot read m_buffer directly: made once,
+  // since at 10^6 parameters (24 MB) an allocation per gradient costs about what a render does.
+  Buffer m_readback;
+  std::vector<int64_t> m_host;
 };
 
 }  // namespace vktg

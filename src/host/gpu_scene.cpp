@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "host/forced_choice.h"
 #include "host/vk_check.h"
 #include "vktg/error.h"
 
@@ -79,16 +80,6 @@ BufferView texelView(const VulkanContext& context, const Buffer& buffer, const s
 }
 
 namespace {
-
-// A variable that forces one of two choices (tests, benchmarks): true for `first`, false for
-// `second`, nothing when unset; anything else is an error naming it.
-std::optional<bool> forcedChoice(const char* variable, const char* first, const char* second) {
-  const char* value = std::getenv(variable);
-  if (!value || !*value) return std::nullopt;
-  if (std::string(value) == first) return true;
-  if (std::string(value) == second) return false;
-  throw Error(std::string(variable) + ": '" + value + "' is neither '" + first + "' nor '" + second + "'");
-}
 
 // Whether the traversal loads the scene through texel buffers: by default on CPU devices (lavapipe
 // traces 1.2-1.5x the rays per second with them, docs/benchmarks.md), never where a buffer takes

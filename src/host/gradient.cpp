@@ -380,11 +380,12 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
       }
     }
     result.stats = stats;
-    const double largest = state.accumulator->largestMagnitude();
     if (stats.gradientOverflows > 0) {
       state.scale = std::ldexp(state.scale, -20);
       continue;
     }
+    state.accumulator->download();
+    const double largest = state.accumulator->largestMagnitude();
     // All zero: either no sample depends on θ, or every contribution rounded to 0 at this scale.
     // Two much finer scales tell them apart; a gradient still zero then is one.
     if (largest == 0 && zeroRetries < 2 && attempt + 1 < kAttempts) {

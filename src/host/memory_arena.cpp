@@ -42,6 +42,7 @@ void MemoryArena::bind(const std::vector<Buffer*>& buffers) {
     if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
       VKTG_VK_CHECK(vkMapMemory(device, m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
       m_coherent = m_context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+      m_readDirectly = m_context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
     }
   }
   size_t i = 0;
@@ -50,6 +51,7 @@ void MemoryArena::bind(const std::vector<Buffer*>& buffers) {
     b->m_boundMemory = m_memory;
     b->m_mapped = m_mapped ? static_cast<char*>(m_mapped) + offsets[i] : nullptr;
     b->m_coherent = m_coherent;
+    b->m_readDirectly = m_readDirectly;
     ++i;
   }
 }

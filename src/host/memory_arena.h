@@ -40,6 +40,7 @@ class MemoryArena {
   uint32_t m_typeIndex = 0;
   void* m_mapped = nullptr;
   bool m_coherent = true;
+  bool m_readDirectly = false;
   uint32_t m_allocations = 0;
 };
 

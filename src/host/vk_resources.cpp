@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "host/forced_choice.h"
 #include "host/vk_check.h"
 
 namespace vktg {
@@ -10,7 +11,10 @@ VkMemoryPropertyFlags memoryFlagsFor(const VulkanContext& context, uint32_t memo
   constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
   if (kind == MemoryKind::Device) {
     constexpr VkMemoryPropertyFlags kLocal = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-    return context.hasMemoryType(memoryTypeBits, kLocal | kHost) ? kLocal | kHost : kLocal;
+    // VKTG_DEVICE_MEMORY=staged leaves device memory unmapped, as on a discrete GPU without a
+    // host-visible heap, so that every device (lavapipe in tests) can run the staging copies.
+    const bool mapped = forcedChoice("VKTG_DEVICE_MEMORY", "mapped", "staged").value_or(true);
+    return mapped && context.hasMemoryType(memoryTypeBits, kLocal | kHost) ? kLocal | kHost : kLocal;
   }
   constexpr VkMemoryPropertyFlags kCached = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
   return context.hasMemoryType(memoryTypeBits, kCached) ? kCached : kHost;
@@ -59,6 +63,9 @@ Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind,
   if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) {
     VKTG_VK_CHECK(vkMapMemory(m_device, m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
     m_coherent = context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    // A readback buffer is the staging buffer itself: read directly even where no cached type exists.
+    m_readDirectly = kind == MemoryKind::Readback ||
+                     context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
   }
 }
 
@@ -71,6 +78,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     m_size = std::exchange(other.m_size, 0);
     m_mapped = std::exchange(other.m_mapped, nullptr);
     m_coherent = other.m_coherent;
+    m_readDirectly = other.m_readDirectly;
     m_boundMemory = std::exchange(other.m_boundMemory, VK_NULL_HANDLE);
     m_name = std::move(other.m_name);
   }
@@ -106,9 +114,11 @@ void Buffer::upload(const VulkanContext& context, const void* data, size_t bytes
   context.submitAndWait(cmd.get());
 }
 
-void Buffer::download(const VulkanContext& context, void* data, size_t bytes, size_t offset) const {
+void Buffer::download(const VulkanContext& context, void* data, size_t bytes, size_t offset, Buffer* staging) const {
   if (bytes == 0) return;
-  if (m_mapped) {
+  // A few uncached reads (a render's counters) cost less than a copy's submission and wait.
+  constexpr size_t kUncachedReadBytes = 4096;
+  if (m_mapped && (m_readDirectly || bytes <= kUncachedReadBytes)) {
     if (!m_coherent) {
       VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, m_boundMemory, 0, VK_WHOLE_SIZE};
       VKTG_VK_CHECK(vkInvalidateMappedMemoryRanges(m_device, 1, &range));
@@ -116,14 +126,18 @@ void Buffer::download(const VulkanContext& context, void* data, size_t bytes, si
     std::memcpy(data, static_cast<const char*>(m_mapped) + offset, bytes);
     return;
   }
-  Buffer staging(context, bytes, MemoryKind::Readback, m_name + ".readback");
+  Buffer fresh;
+  if (!staging || staging->size() < bytes) {
+    fresh = Buffer(context, bytes, MemoryKind::Readback, m_name + ".readback");
+    staging = &fresh;
+  }
   CommandBuffer cmd(context, "download " + m_name);
   cmd.begin();
   VkBufferCopy region{offset, 0, bytes};
-  vkCmdCopyBuffer(cmd.get(), m_buffer, staging.handle(), 1, &region);
+  vkCmdCopyBuffer(cmd.get(), m_buffer, staging->handle(), 1, &region);
   cmd.end();
   context.submitAndWait(cmd.get());
-  staging.download(context, data, bytes);
+  staging->download(context, data, bytes);
 }
 
 CommandBuffer::CommandBuffer(const VulkanContext& context, const std::string& name)

@@ -81,8 +81,13 @@ class Buffer {
 
   // Copies host data into the buffer (directly when mapped, else through a staging buffer).
   void upload(const VulkanContext& context, const void* data, size_t bytes, size_t offset = 0);
-  // Copies the buffer's first `bytes` back to the host.
-  void download(const VulkanContext& context, void* data, size_t bytes, size_t offset = 0) const;
+  // Copies `bytes` from `offset` back to the host: directly where the memory is mapped and cached,
+  // else through a staging buffer (`staging`, a Readback buffer of at least `bytes`, when given; a
+  // fresh one otherwise). A GPU's host-visible device memory (resizable BAR) is mapped uncached, and
+  // the host reads it at tens of MB/s: a copy by the device and a cached read are far faster.
+  void download(const VulkanContext& context, void* data, size_t bytes, size_t offset = 0, Buffer* staging = nullptr) const;
+  // Whether the host reads this buffer's memory directly (mapped and cached, or a readback buffer).
+  bool hostReadable() const { return m_mapped && m_readDirectly; }
   void reset();
 
  private:
@@ -93,13 +98,15 @@ class Buffer {
   VkDeviceSize m_size = 0;
   void* m_mapped = nullptr;
   bool m_coherent = true;
+  bool m_readDirectly = false;
   VkDeviceMemory m_boundMemory = VK_NULL_HANDLE;  // what the buffer is bound to (its own or an arena's); null: unbound
   std::string m_name;
 };
 
 // The memory properties a buffer of `kind` asks for on this device (`memoryTypeBits` from its
 // requirements): device-local, mapped too where the device offers host-visible device memory
-// (integrated GPUs, lavapipe: no staging there); host-visible and cached for readback.
+// (integrated GPUs, lavapipe, GPUs with a resizable BAR: uploads need no staging there, downloads
+// only where that memory is cached); host-visible and cached for readback.
 VkMemoryPropertyFlags memoryFlagsFor(const VulkanContext& context, uint32_t memoryTypeBits, MemoryKind kind);
 
 // vkAllocateMemory through the context (fault injection), or a DeviceFault naming `name` and the

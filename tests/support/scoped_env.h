@@ -1,5 +1,5 @@
 // Sets an environment variable for its lifetime (the variables through which tests force a
-// device's choices: VKTG_SCENE_ACCESS, VKTG_BVH_WIDTH, VKTG_MAX_CHUNK_BYTES).
+// device's choices: VKTG_SCENE_ACCESS, VKTG_BVH_WIDTH, VKTG_DEVICE_MEMORY, VKTG_MAX_CHUNK_BYTES).
 #pragma once
 #include <cstdlib>
 
