@@ -44,6 +44,7 @@ void GradientAccumulator::clear() {
   CommandBuffer cmd(m_context, "clear adjoint.gradient");
   cmd.begin();
   vkCmdFillBuffer(cmd.get(), m_buffer.handle(), 0, VK_WHOLE_SIZE, 0);
+  computeBarrier(cmd.get());  // before the passes add into it
   cmd.end();
   m_context.submitAndWait(cmd.get());
 }

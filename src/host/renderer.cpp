@@ -486,6 +486,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
       pushArgs(cmd, layout, 0, 0, 0, active * slotsPerSample);
       dispatch(finishName.c_str(), finish, groupsFor(uint64_t(active) * slotsPerSample));
     }
+    hostReadBarrier(cmd);  // the counters (and a mapped film) are read by the host after the fence
     cmdBuffer.end();
     context.submitAndWait(cmd);
     profiler.collect();
@@ -500,6 +501,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &ds, 0, nullptr);
     pushArgs(cmd, layout, 0, 0, 0, uint32_t(filmElements));
     dispatch("resolve", resolve, groupsFor(filmElements));
+    hostReadBarrier(cmd);
     cmdBuffer.end();
     context.submitAndWait(cmd);
     profiler.collect();

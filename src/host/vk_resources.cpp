@@ -110,6 +110,7 @@ void Buffer::upload(const VulkanContext& context, const void* data, size_t bytes
   cmd.begin();
   VkBufferCopy region{0, offset, bytes};
   vkCmdCopyBuffer(cmd.get(), staging.handle(), m_buffer, 1, &region);
+  computeBarrier(cmd.get());  // for the passes of later submissions
   cmd.end();
   context.submitAndWait(cmd.get());
 }
@@ -133,8 +134,10 @@ void Buffer::download(const VulkanContext& context, void* data, size_t bytes, si
   }
   CommandBuffer cmd(context, "download " + m_name);
   cmd.begin();
+  computeBarrier(cmd.get());  // what the passes of earlier submissions wrote
   VkBufferCopy region{offset, 0, bytes};
   vkCmdCopyBuffer(cmd.get(), m_buffer, staging->handle(), 1, &region);
+  hostReadBarrier(cmd.get());
   cmd.end();
   context.submitAndWait(cmd.get());
   staging->download(context, data, bytes);
@@ -172,6 +175,14 @@ void computeBarrier(VkCommandBuffer cmd) {
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
                            VK_PIPELINE_STAGE_TRANSFER_BIT,
                        0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+void hostReadBarrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
 }
 
 }  // namespace vktg

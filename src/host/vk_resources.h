@@ -137,5 +137,7 @@ class CommandBuffer {
 
 // Full compute-to-compute (and indirect-argument, transfer) barrier between passes.
 void computeBarrier(VkCommandBuffer cmd);
+// Compute and transfer writes made visible to the host's reads after the submission's fence.
+void hostReadBarrier(VkCommandBuffer cmd);
 
 }  // namespace vktg
