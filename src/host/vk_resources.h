@@ -81,8 +81,8 @@ class Buffer {
 
   // Copies host data into the buffer (directly when mapped, else through a staging buffer).
   void upload(const VulkanContext& context, const void* data, size_t bytes, size_t offset = 0);
-  // Copies `bytes` from `offset` back to the host: directly where the memory is mapped and cached,
-  // else through a staging buffer (`staging`, a Readback buffer of at least `bytes`, when given; a
+  // Copies `bytes` from `offset` back to the host: directly where the memory is mapped and cached
+  // (or mapped and the read under 4 KiB), else through a staging buffer (`staging`, a Readback buffer of at least `bytes`, when given; a
   // fresh one otherwise). A GPU's host-visible device memory (resizable BAR) is mapped uncached, and
   // the host reads it at tens of MB/s: a copy by the device and a cached read are far faster.
   void download(const VulkanContext& context, void* data, size_t bytes, size_t offset = 0, Buffer* staging = nullptr) const;
