@@ -142,6 +142,13 @@ TEST(GradAdjoint, RotationRoughnessEmissionIntensity) {
   expectAdjointMatchesLanes(scene, {"spin", "gloss", "lamp_power", "bulb_power"}, options(16, 16));
 }
 
+// The model of the named parameters of `scene`.
+ParameterModel modelOf(const Scene& scene, const std::vector<std::string>& names) {
+  std::vector<uint32_t> indices;
+  for (const std::string& n : names) indices.push_back(findParameter(scene, n));
+  return ParameterModel(scene, indices);
+}
+
 // A first scale 2^60 finer than the one a gradient settles on: the largest accumulator would hold
 // 2^100, so samples overflow, the passes must report it (each invocation counts its faults once as
 // it ends), and the driver must redo the gradient at coarser scales (2^-20 each) until none
@@ -150,9 +157,7 @@ TEST(GradAdjoint, RotationRoughnessEmissionIntensity) {
 TEST(GradAdjoint, OverflowingAccumulatorsAreRescaled) {
   const Scene scene = roomScene();
   const std::vector<std::string> names = {"block_x", "bulb_y", "floor_albedo", "t0"};
-  std::vector<uint32_t> indices;
-  for (const std::string& n : names) indices.push_back(findParameter(scene, n));
-  ParameterModel model(scene, indices);
+  const ParameterModel model = modelOf(scene, names);
   std::vector<double> theta(model.size(), 0.0);
   DeviceScene deviceScene(test::testRenderer().context(), model, theta, theta);
   const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
@@ -178,9 +183,7 @@ TEST(GradAdjoint, OverflowingAccumulatorsAreRescaled) {
 TEST(GradAdjoint, StagedDeviceMemoryGivesTheSameGradient) {
   const Scene scene = roomScene();
   const std::vector<std::string> names = {"block_x", "bulb_y", "floor_albedo", "t0"};
-  std::vector<uint32_t> indices;
-  for (const std::string& n : names) indices.push_back(findParameter(scene, n));
-  ParameterModel model(scene, indices);
+  const ParameterModel model = modelOf(scene, names);
   std::vector<double> theta(model.size(), 0.0);
   const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
   const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
