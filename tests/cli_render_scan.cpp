@@ -113,10 +113,21 @@ TEST(CliRenderScan, ARenderedScanIsAnOptimisationTarget) {
                                       {"render", {{"spp", 16}}},
                                       {"stop", {{"iterations", 2}}}});
   const CliResult r = runOk({"optimize", "experiment.json", "--out", "run"}, dir);
+  // The scan is one entry of the log and of the images: its points' losses summed in one column,
+  // its first renders in one cube laid out as the target's.
   const std::string log = readFileBytes(dir / "run" / "log.csv");
-  for (const char* column : {"loss_wall_0_0", "loss_wall_2_0", "loss_wall_1_2"})
-    EXPECT_NE(log.find(column), std::string::npos) << column << " in " << log.substr(0, 400);
+  EXPECT_EQ(log.substr(0, log.find('\n')), "iteration,loss,loss_wall,gradient_norm,seconds");
+  const ImageSet initial = readExr(dir / "run" / "images" / "wall_initial.exr");
+  const ImageSet target = readExr(dir / "cube.exr");
+  EXPECT_EQ(initial.width, target.width);
+  EXPECT_EQ(initial.height, target.height);
+  EXPECT_EQ(initial.layers.size(), target.layers.size());
+  EXPECT_FALSE(fs::exists(dir / "run" / "images" / "wall_0_0_initial.exr"));
   EXPECT_TRUE(fs::exists(dir / "run" / "images" / "transients" / "1.png")) << r.describe();
+  // A resumed run splits the cube back into its points for the figures.
+  fs::remove(dir / "run" / "images" / "transients" / "2.png");
+  const CliResult resumed = runOk({"optimize", "--resume", "run", "--iterations", "3"}, dir);
+  EXPECT_TRUE(fs::exists(dir / "run" / "images" / "transients" / "2.png")) << resumed.describe();
 }
 
 TEST(CliRenderScan, BadScanFilesNameTheFieldAndWriteNothing) {

@@ -642,6 +642,40 @@ TEST_F(ScanTargets, EachPointReadsItsPixelOfTheScanImage) {
                "render 3x2 with 4 layers"});
 }
 
+// The log and the initial images go by "targets" entry: a scan's points are one entry, whose images
+// join into the cube they were read from and split back into the same points.
+TEST_F(ScanTargets, AScanIsOneEntryWhoseImagesJoinIntoItsCube) {
+  ImageSet cube{3, 2, {}};
+  for (uint32_t b = 0; b < 4; ++b) {
+    cube.layers.push_back({"bin" + std::to_string(b), {}});
+    for (uint32_t p = 0; p < 6; ++p) cube.layers[b].pixels.push_back(float(10 * p + b));
+  }
+  writeExr(m_dir / "cube.exr", cube);
+  const Experiment x = parseExperimentJson(experiment("cube.exr").dump(), kFile, m_dir);
+  const std::vector<TargetEntry> entries = targetEntries(x);
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_EQ(entries[0].name, "wall");
+  EXPECT_TRUE(entries[0].scan);
+  EXPECT_EQ(entries[0].targets, (std::vector<size_t>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(entries[1].name, "single");
+  EXPECT_FALSE(entries[1].scan);
+  EXPECT_EQ(entries[1].targets, std::vector<size_t>{6});
+  std::vector<ImageSet> points;
+  for (size_t t = 0; t < 6; ++t) points.push_back(loadTargetImage(x, t));
+  points.push_back(filled(1, 1, 4, 0.0f));
+  const ImageSet joined = joinScanImages(x, entries[0], points);
+  EXPECT_EQ(joined.width, 3u);
+  EXPECT_EQ(joined.height, 2u);
+  ASSERT_EQ(joined.layers.size(), 4u);
+  for (uint32_t b = 0; b < 4; ++b) EXPECT_EQ(joined.layers[b].pixels, cube.layers[b].pixels) << "bin " << b;
+  const std::vector<ImageSet> split = splitScanImage(x, entries[0], joined, "initial.exr");
+  ASSERT_EQ(split.size(), 6u);
+  for (size_t t = 0; t < 6; ++t)
+    for (uint32_t b = 0; b < 4; ++b) EXPECT_EQ(split[t].layers[b].pixels, points[t].layers[b].pixels) << t << ", bin " << b;
+  expectError([&] { splitScanImage(x, entries[0], filled(2, 3, 4, 1.0f), "initial.exr"); },
+              {"initial.exr", "2x3 with 4 layers", "scan \"wall\"", "3x2 with 4 layers"});
+}
+
 TEST_F(ScanTargets, Errors) {
   json j = experiment("cube.exr");
   writeExr(m_dir / "cube.exr", filled(3, 2, 4, 1.0f));
@@ -657,6 +691,9 @@ TEST_F(ScanTargets, Errors) {
   j = experiment("cube.exr");
   j["targets"][1]["name"] = "wall_1";
   expectError([&] { parseExperimentJson(j.dump(), kFile, m_dir); }, {"targets[1].name", "duplicate target name \"wall_1\""});
+  // A scan's name is its log column's and initial image's, so no other target may take it.
+  j["targets"][1]["name"] = "wall";
+  expectError([&] { parseExperimentJson(j.dump(), kFile, m_dir); }, {"targets[1].name", "duplicate target name \"wall\""});
 }
 
 TEST_F(ExperimentFiles, MissingExperimentFile) {

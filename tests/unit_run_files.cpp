@@ -256,7 +256,7 @@ TEST_F(RunFilesFigures, LossFigureOfManyTargetsFits) {
     }
     for (size_t t = 0; t < targets; ++t) {
       Target target;
-      target.name = "scan_" + std::to_string(t);
+      target.name = target.entryName = "scan_" + std::to_string(t);
       e.targets.push_back(target);
       log["loss_" + target.name] = std::vector<double>(12, 1.0 / double(targets));
     }

@@ -108,7 +108,7 @@ GradientOptions gradientOptions(const Experiment& e, uint64_t memoryBudget) {
 
 std::vector<std::string> logColumns(const Experiment& e) {
   std::vector<std::string> columns = {"iteration", "loss"};
-  for (const Target& t : e.targets) columns.push_back("loss_" + t.name);
+  for (const TargetEntry& entry : targetEntries(e)) columns.push_back("loss_" + entry.name);  // a scan's: its points' sum
   if (!e.regularizers.empty()) columns.push_back("regularization");
   columns.push_back("gradient_norm");
   if (parameterError(e.parameters, std::vector<double>(e.parameters.size(), 0.0))) columns.push_back("parameter_error");
@@ -299,10 +299,21 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
   summary.iterations = start;
   const auto runStart = std::chrono::steady_clock::now();
   auto elapsed = [&] { return secondsBefore + std::chrono::duration<double>(std::chrono::steady_clock::now() - runStart).count(); };
+  // The first iteration's images, one file per "targets" entry (a scan's laid out as `vktg render
+  // --scan` writes it), read back by a resumed run for its figures.
+  const std::vector<TargetEntry> entries = targetEntries(e);
+  auto initialImagePath = [&](const TargetEntry& entry) { return run / "images" / (entry.name + "_initial.exr"); };
   std::vector<ImageSet> initialImages(e.targets.size());
-  for (size_t t = 0; t < e.targets.size(); ++t) {
-    const fs::path saved = run / "images" / (e.targets[t].name + "_initial.exr");
-    if (fs::exists(saved)) initialImages[t] = readExr(saved);
+  for (const TargetEntry& entry : entries) {
+    const fs::path saved = initialImagePath(entry);
+    if (!fs::exists(saved)) continue;
+    const ImageSet whole = readExr(saved);
+    if (!entry.scan) {
+      initialImages[entry.targets.front()] = whole;
+      continue;
+    }
+    const std::vector<ImageSet> points = splitScanImage(e, entry, whole, saved.string());
+    for (size_t k = 0; k < points.size(); ++k) initialImages[entry.targets[k]] = points[k];
   }
   bool explained = false;
   try {
@@ -332,15 +343,16 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
           options.progress("render plan (target " + e.targets[t].name + "):\n" + explainPlan(plans[t]));
         losses[t] = imageLoss(e.loss, primals[t], targets[t], e.targets[t].weight, &adjointImages[t]);
         loss += losses[t];
-        if (i == 0) {
-          initialImages[t] = primals[t];
-          writeExr(run / "images" / (e.targets[t].name + "_initial.exr"), primals[t]);
-        }
+        if (i == 0) initialImages[t] = primals[t];
         RenderSetup setup = primalViews[t].setup;
         setup.settings.spp = e.budget.sppInterior;
         setup.settings.seed = seedFor(e.seed, i, t, 1);
         views.push_back({setup, setups[t].lights, nullptr});
       }
+      if (i == 0)
+        for (const TargetEntry& entry : entries)
+          writeExr(initialImagePath(entry),
+                   entry.scan ? joinScanImages(e, entry, primals) : primals[entry.targets.front()]);
       if (i % e.imagesEvery == 0 || i + 1 == e.stop.iterations) {
         std::vector<TargetImages> figures;
         for (size_t t = 0; t < e.targets.size(); ++t)
@@ -398,7 +410,11 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       const std::optional<double> error = parameterError(e.parameters, theta);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - iterationStart).count();
       std::vector<double> row = {double(i), loss};
-      row.insert(row.end(), losses.begin(), losses.end());
+      for (const TargetEntry& entry : entries) {
+        double entryLoss = 0;
+        for (size_t t : entry.targets) entryLoss += losses[t];
+        row.push_back(entryLoss);
+      }
       if (!e.regularizers.empty()) row.push_back(regularization);
       row.push_back(norm);
       if (error) row.push_back(*error);

@@ -130,10 +130,13 @@ class ExperimentParser {
     Target target;
     target.entry = entry;
     target.name = o.string("name", "target_" + std::to_string(entry));
+    target.entryName = target.name;
     const JsonValue nameWhere = o.has("name") ? o.field("name") : value;
     if (!isValidParameterName(target.name))
       nameWhere.fail("invalid target name " + inQuotes(target.name) +
                      " (use letters, digits, '_', '-' and '.': it names files and log columns)");
+    // A scan's name names its log column and initial image, as a single target's does.
+    if (o.has("scan") && !names.insert(target.name).second) nameWhere.fail("duplicate target name " + inQuotes(target.name));
     if (o.has("view") && o.has("scan")) o.field("scan").fail("a target takes a view or a scan, not both");
     if (o.has("view")) target.view = parseSceneView(o.field("view"), m_x.scene);
     target.gate = o.has("gate") ? parseGateValue(o.field("gate")) : m_x.scene.gate;

@@ -42,6 +42,7 @@ struct Target {
   uint32_t synthesizeSeed = 0x5eed;  // the parser's default: 0x5eed + the target's index
   // The "targets" entry this target comes from: a "scan" entry makes one target per scan point.
   size_t entry = 0;
+  std::string entryName;            // that entry's name: names its log column and initial image
   // A scan point's target: its view of the scan, of scanViews, whose image is laid out as `vktg
   // render --scan` writes it (scanColumns x scanRows pixels at a point sensor; the views' images
   // one below the other behind a pinhole); `image` is that whole image.
@@ -148,6 +149,22 @@ void checkTargetImageFinite(const Experiment& experiment, size_t target, const I
 // Reads a target's EXR (Target::image) and checks it against the camera of sceneForTarget and the
 // layers of the target's gate.
 ImageSet loadTargetImage(const Experiment& experiment, size_t target);
+
+// The "targets" entries in file order, each with its targets (a scan's: one per point, in scan order).
+struct TargetEntry {
+  std::string name;
+  std::vector<size_t> targets;
+  bool scan = false;
+};
+std::vector<TargetEntry> targetEntries(const Experiment& experiment);
+
+// A scan entry's per-point images as one, laid out as `vktg render --scan` writes it (at a point
+// sensor the scan grid, else the views one below the other): each layer holds the points' pixels in
+// scan order. splitScanImage is its inverse; it throws vktg::Error naming `source` when `whole`
+// does not hold the entry's points.
+ImageSet joinScanImages(const Experiment& experiment, const TargetEntry& entry, const std::vector<ImageSet>& images);
+std::vector<ImageSet> splitScanImage(const Experiment& experiment, const TargetEntry& entry, const ImageSet& whole,
+                                     const std::string& source);
 
 // RMS of θ - truth over the parameters that have a truth; nullopt when none has one.
 std::optional<double> parameterError(const std::vector<ExperimentParameter>& parameters, const std::vector<double>& theta);

@@ -24,21 +24,29 @@ std::string describeImage(const Target& target) {
   fail(experiment.source.string(), imageField(t.entry), "target \"" + t.name + "\": " + problem);
 }
 
-// View `t.scanView`'s image out of the whole scan's (laid out as `vktg render --scan` writes it),
-// after checking the whole image's size against the scan, the camera and the gate.
+// The size of a scan's whole image (laid out as `vktg render --scan` writes it) and of one point's.
+struct ScanLayout {
+  uint32_t width, height, pointWidth, pointHeight;
+};
+
+ScanLayout scanLayout(const Experiment& experiment, const Target& t) {
+  const Camera& camera = experiment.scene.camera;
+  const glm::uvec2 pixels = imagePixels(camera);
+  if (camera.type == CameraType::PointSensor) return {t.scanColumns, t.scanRows, 1, 1};
+  return {pixels.x, pixels.y * t.scanViews, pixels.x, pixels.y};
+}
+
+// View `t.scanView`'s image out of the whole scan's, after checking the whole image's size against
+// the scan, the camera and the gate.
 ImageSet scanPointImage(const Experiment& experiment, size_t target, const ImageSet& whole) {
   const Target& t = experiment.targets[target];
-  const Camera& camera = experiment.scene.camera;
-  const bool sensor = camera.type == CameraType::PointSensor;
-  const uint32_t width = sensor ? t.scanColumns : imagePixels(camera).x;
-  const uint32_t viewHeight = sensor ? 1 : imagePixels(camera).y, height = sensor ? t.scanRows : viewHeight * t.scanViews;
-  if (whole.width != width || whole.height != height || whole.layers.size() != t.gate.layers())
+  const ScanLayout layout = scanLayout(experiment, t);
+  if (whole.width != layout.width || whole.height != layout.height || whole.layers.size() != t.gate.layers())
     failTarget(experiment, target,
                t.image.string() + " is " + describeShape(whole.width, whole.height, whole.layers.size()) +
                    ", but its scan of " + std::to_string(t.scanViews) + " views and its gate render " +
-                   describeShape(width, height, t.gate.layers()) + " (gate: " + t.gate.describe() + ")");
-  ImageSet point{imagePixels(camera).x, viewHeight, {}};
-  if (sensor) point.width = 1;
+                   describeShape(layout.width, layout.height, t.gate.layers()) + " (gate: " + t.gate.describe() + ")");
+  ImageSet point{layout.pointWidth, layout.pointHeight, {}};
   const size_t pixels = size_t(point.width) * point.height, first = size_t(*t.scanView) * pixels;
   for (const ImageLayer& layer : whole.layers)
     point.layers.push_back({layer.name, std::vector<float>(layer.pixels.begin() + first, layer.pixels.begin() + first + pixels)});
@@ -109,6 +117,43 @@ ImageSet loadTargetImage(const Experiment& experiment, size_t target) {
   checkTargetImageSize(experiment, target, image, imagePixels(camera).x, imagePixels(camera).y, t.gate.layers());
   checkTargetImageFinite(experiment, target, image);
   return image;
+}
+
+std::vector<TargetEntry> targetEntries(const Experiment& experiment) {
+  std::vector<TargetEntry> entries;
+  for (size_t t = 0; t < experiment.targets.size(); ++t) {
+    const Target& target = experiment.targets[t];
+    const std::string& name = target.entryName.empty() ? target.name : target.entryName;
+    if (entries.empty() || entries.back().name != name || !target.scanView)
+      entries.push_back({name, {}, target.scanView.has_value()});
+    entries.back().targets.push_back(t);
+  }
+  return entries;
+}
+
+ImageSet joinScanImages(const Experiment& experiment, const TargetEntry& entry, const std::vector<ImageSet>& images) {
+  const ScanLayout layout = scanLayout(experiment, experiment.targets.at(entry.targets.front()));
+  ImageSet whole{layout.width, layout.height, {}};
+  for (size_t t : entry.targets) {
+    const ImageSet& point = images.at(t);
+    if (whole.layers.empty())
+      for (const ImageLayer& layer : point.layers) whole.layers.push_back({layer.name, {}});
+    for (size_t l = 0; l < point.layers.size(); ++l)
+      whole.layers[l].pixels.insert(whole.layers[l].pixels.end(), point.layers[l].pixels.begin(), point.layers[l].pixels.end());
+  }
+  return whole;
+}
+
+std::vector<ImageSet> splitScanImage(const Experiment& experiment, const TargetEntry& entry, const ImageSet& whole,
+                                     const std::string& source) {
+  const Target& first = experiment.targets.at(entry.targets.front());
+  const ScanLayout layout = scanLayout(experiment, first);
+  if (whole.width != layout.width || whole.height != layout.height || whole.layers.size() != first.gate.layers())
+    fail(source, "", "is " + describeShape(whole.width, whole.height, whole.layers.size()) + ", but the scan \"" +
+                         entry.name + "\" renders " + describeShape(layout.width, layout.height, first.gate.layers()));
+  std::vector<ImageSet> points;
+  for (size_t t : entry.targets) points.push_back(scanPointImage(experiment, t, whole));
+  return points;
 }
 
 std::optional<double> parameterError(const std::vector<ExperimentParameter>& parameters, const std::vector<double>& theta) {

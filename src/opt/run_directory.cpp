@@ -173,16 +173,16 @@ void writeRunFigures(const fs::path& directory, const Experiment& experiment,
   };
   const std::vector<double> iterations = column("iteration");
   if (iterations.empty()) return;
-  // One line per target while the legend fits and the colours stay distinct; a scan's many
-  // targets keep their losses in log.csv only.
+  // One line per "targets" entry (a scan's: the sum over its points) while the legend fits and the
+  // colours stay distinct; beyond that the entries keep their losses in log.csv only.
   constexpr size_t kMaxTargetLines = 8;
-  const size_t targets = experiment.targets.size();
-  const bool perTarget = targets > 1 && targets <= kMaxTargetLines;
-  LinePlot loss{targets <= kMaxTargetLines ? "Loss" : "Loss (" + std::to_string(targets) + " targets: each in log.csv)",
+  const std::vector<TargetEntry> entries = targetEntries(experiment);
+  const bool perEntry = entries.size() > 1 && entries.size() <= kMaxTargetLines;
+  LinePlot loss{entries.size() <= kMaxTargetLines ? "Loss" : "Loss (" + std::to_string(entries.size()) + " targets: each in log.csv)",
                 "iteration", "loss", true, {}};
   loss.series.push_back({"total", iterations, column("loss")});
-  if (perTarget)
-    for (const Target& t : experiment.targets) loss.series.push_back({t.name, iterations, column("loss_" + t.name)});
+  if (perEntry)
+    for (const TargetEntry& entry : entries) loss.series.push_back({entry.name, iterations, column("loss_" + entry.name)});
   if (log.count("regularization")) loss.series.push_back({"regularization", iterations, column("regularization")});
   writeLinePlot(directory / "loss.png", loss);
   if (log.count("parameter_error")) {
