@@ -109,6 +109,16 @@ struct Renderer::Impl {
   std::unique_ptr<FrameResources> frame;
   std::optional<ChunkedBuffer> film;
   uint64_t filmFloats = 0;
+  Buffer filmReadback;  // grow-only: where a film the host cannot read directly is copied to
+
+  // The staging buffer for downloading `bytes` of `chunk` (none where the host reads it directly):
+  // kept between renders, since an optimisation reads a film back every iteration.
+  Buffer* filmStaging(const Buffer& chunk, VkDeviceSize bytes) {
+    if (chunk.hostReadable()) return nullptr;
+    if (!filmReadback || filmReadback.size() < bytes)
+      filmReadback = Buffer(context, bytes, MemoryKind::Readback, "film.readback");
+    return &filmReadback;
+  }
 
   FrameResources& frameResources(const FrameResources::Key& key) {
     if (!frame || !(frame->key == key)) {
@@ -539,7 +549,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   for (size_t c = 0; c < film.chunks.size(); ++c) {
     size_t first = c * perChunk;
     size_t count = std::min<size_t>(perChunk, filmFloats - first);
-    film.chunks[c].download(context, resolved.data() + first, count * sizeof(float));
+    film.chunks[c].download(context, resolved.data() + first, count * sizeof(float), 0,
+                            m_impl->filmStaging(film.chunks[c], count * sizeof(float)));
   }
   for (size_t i = 0; i < filmElements; ++i) {
     mean[i] = resolved[gpu::kFilmFloatsPerElement * i];
