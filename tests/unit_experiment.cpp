@@ -691,6 +691,15 @@ TEST_F(ScanTargets, Errors) {
   j = experiment("cube.exr");
   j["targets"][1]["name"] = "wall_1";
   expectError([&] { parseExperimentJson(j.dump(), kFile, m_dir); }, {"targets[1].name", "duplicate target name \"wall_1\""});
+  // A file that is no EXR is named with its own entry's field, not its position among the targets.
+  writeExr(m_dir / "cube.exr", filled(3, 2, 4, 1.0f));
+  test::writePlain(m_dir / "scan.json", R"({"version": 1, "grid": {"corner": [-1, 1, -1], "across": [2, 0, 0],
+      "down": [0, 0, 1], "resolution": [3, 2], "lights": ["laser"]}})");
+  test::writePlain(m_dir / "broken.exr", "not an EXR");
+  j = experiment("cube.exr");
+  j["targets"][1]["image"] = "broken.exr";
+  const Experiment broken = parseExperimentJson(j.dump(), kFile, m_dir);
+  expectError([&] { loadTargetImage(broken, 6); }, {kFile, "targets[1].image", "broken.exr"});
   // A scan's name is its log column's and initial image's, so no other target may take it.
   j["targets"][1]["name"] = "wall";
   expectError([&] { parseExperimentJson(j.dump(), kFile, m_dir); }, {"targets[1].name", "duplicate target name \"wall\""});

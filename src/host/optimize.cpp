@@ -201,15 +201,19 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
     info = {options.experiment, options.memoryBudget};
   }
   if (options.iterations) e.stop.iterations = *options.iterations;
-  // Target images from files are read (and checked against their view and gate) here, once.
+  // Target images from files are read (and checked against their view and gate) here, once: a
+  // scan's file once for all its points.
   std::vector<ImageSet> targets(e.targets.size());
-  for (size_t t = 0; t < e.targets.size(); ++t)
-    if (e.targets[t].synthesize) {
+  for (const TargetEntry& entry : targetEntries(e)) {
+    const Target& first = e.targets[entry.targets.front()];
+    if (first.synthesize) {
       for (const ExperimentParameter& p : e.parameters)
-        if (!p.truth) fail(e.source.string(), "targets[" + std::to_string(e.targets[t].entry) + "].image", "synthesising needs a truth for every parameter; \"" + p.name + "\" has none");
-    } else {
-      targets[t] = loadTargetImage(e, t);
+        if (!p.truth) fail(e.source.string(), "targets[" + std::to_string(first.entry) + "].image", "synthesising needs a truth for every parameter; \"" + p.name + "\" has none");
+      continue;
     }
+    std::vector<ImageSet> images = loadTargetImages(e, entry);
+    for (size_t k = 0; k < images.size(); ++k) targets[entry.targets[k]] = std::move(images[k]);
+  }
   std::vector<TargetSetup> setups;
   for (size_t t = 0; t < e.targets.size(); ++t) {
     // render.max_depth limits the model being fitted; the synthesised targets stand for the

@@ -166,6 +166,9 @@ ImageSet joinScanImages(const Experiment& experiment, const TargetEntry& entry, 
 std::vector<ImageSet> splitScanImage(const Experiment& experiment, const TargetEntry& entry, const ImageSet& whole,
                                      const std::string& source);
 
+// loadTargetImage for every target of an entry whose image is a file, reading the file once.
+std::vector<ImageSet> loadTargetImages(const Experiment& experiment, const TargetEntry& entry);
+
 // RMS of θ - truth over the parameters that have a truth; nullopt when none has one.
 std::optional<double> parameterError(const std::vector<ExperimentParameter>& parameters, const std::vector<double>& theta);
 

@@ -102,21 +102,41 @@ void checkTargetImageFinite(const Experiment& experiment, size_t target, const I
                    " non-finite pixel(s), the first " + first + ": a loss against it would be NaN");
 }
 
-ImageSet loadTargetImage(const Experiment& experiment, size_t target) {
+namespace {
+
+// The file of a target's "targets" entry (a scan's: the whole scan's image).
+ImageSet readTargetFile(const Experiment& experiment, size_t target) {
   const Target& t = experiment.targets.at(target);
   if (t.synthesize) failTarget(experiment, target, "is synthesised by rendering: it has no file to read");
-  ImageSet image;
   try {
-    image = readExr(t.image);
+    return readExr(t.image);
   } catch (const Error& e) {
-    fail(experiment.source.string(), imageField(target), e.what());
+    fail(experiment.source.string(), imageField(t.entry), e.what());
   }
-  if (t.scanView) image = scanPointImage(experiment, target, image);
+}
+
+// The target's image out of its entry's file, checked against its view and gate.
+ImageSet checkedTargetImage(const Experiment& experiment, size_t target, const ImageSet& file) {
+  const Target& t = experiment.targets.at(target);
+  ImageSet image = t.scanView ? scanPointImage(experiment, target, file) : file;
   // A view moves the camera but never changes its resolution.
   const Camera& camera = experiment.scene.camera;
   checkTargetImageSize(experiment, target, image, imagePixels(camera).x, imagePixels(camera).y, t.gate.layers());
   checkTargetImageFinite(experiment, target, image);
   return image;
+}
+
+}  // namespace
+
+ImageSet loadTargetImage(const Experiment& experiment, size_t target) {
+  return checkedTargetImage(experiment, target, readTargetFile(experiment, target));
+}
+
+std::vector<ImageSet> loadTargetImages(const Experiment& experiment, const TargetEntry& entry) {
+  const ImageSet file = readTargetFile(experiment, entry.targets.front());
+  std::vector<ImageSet> images;
+  for (size_t t : entry.targets) images.push_back(checkedTargetImage(experiment, t, file));
+  return images;
 }
 
 std::vector<TargetEntry> targetEntries(const Experiment& experiment) {
