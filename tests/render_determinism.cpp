@@ -48,6 +48,13 @@ void expectBitIdentical(const ImageSet& a, const ImageSet& b, const std::string&
   }
 }
 
+// The image and every derivative image of two renders, bit for bit.
+void expectSameImages(const RenderResult& a, const RenderResult& b) {
+  expectBitIdentical(a.mean, b.mean, "image");
+  ASSERT_EQ(a.derivatives.size(), b.derivatives.size());
+  for (size_t k = 0; k < a.derivatives.size(); ++k) expectBitIdentical(a.derivatives[k], b.derivatives[k], "derivative");
+}
+
 RenderResult renderWithBudget(const Scene& scene, uint64_t budget, bool derivative) {
   RenderOptions options;
   options.nee = NeeMode::Standard;
@@ -102,9 +109,7 @@ TEST(RenderDeterminism, BuffersSplitIntoChunksGiveTheSameBits) {
       RenderResult split = renderUnder(*scene, derivative, "VKTG_MAX_CHUNK_BYTES", cap);
       EXPECT_GT(split.stats.bufferChunks, 1u) << "the cap should have split a buffer";
       if (scene == &sceneSplit) EXPECT_FALSE(split.stats.sceneTexels) << "split buffers load through storage buffers";
-      expectBitIdentical(whole.mean, split.mean, "image");
-      for (size_t k = 0; k < whole.derivatives.size(); ++k)
-        expectBitIdentical(whole.derivatives[k], split.derivatives[k], "derivative");
+      expectSameImages(whole, split);
     }
   }
 }
@@ -119,9 +124,7 @@ TEST(RenderDeterminism, TexelAndStorageSceneLoadsGiveTheSameBits) {
     RenderResult texel = renderUnder(scene, derivative, "VKTG_SCENE_ACCESS", "texel");
     ASSERT_FALSE(storage.stats.sceneTexels || storage.stats.waveTexels);
     ASSERT_TRUE(texel.stats.sceneTexels && texel.stats.waveTexels);
-    expectBitIdentical(storage.mean, texel.mean, "image");
-    for (size_t k = 0; k < storage.derivatives.size(); ++k)
-      expectBitIdentical(storage.derivatives[k], texel.derivatives[k], "derivative");
+    expectSameImages(storage, texel);
   }
 }
 
@@ -147,9 +150,7 @@ TEST(RenderDeterminism, WideAndBinaryBvhGiveTheSameBits) {
     ASSERT_FALSE(binary.stats.wideBvh);
     if (!wide.stats.sceneTexels) GTEST_SKIP() << "the wide tree is read through texel views, which this device does not use";
     ASSERT_TRUE(wide.stats.wideBvh);
-    expectBitIdentical(binary.mean, wide.mean, "image");
-    for (size_t k = 0; k < binary.derivatives.size(); ++k)
-      expectBitIdentical(binary.derivatives[k], wide.derivatives[k], "derivative");
+    expectSameImages(binary, wide);
   }
 }
 
@@ -161,10 +162,8 @@ TEST(RenderDeterminism, MappedAndStagedDeviceMemoryGiveTheSameBits) {
     SCOPED_TRACE(derivative ? "derivative lanes" : "image");
     RenderResult mapped = renderUnder(scene, derivative, "VKTG_DEVICE_MEMORY", "mapped");
     RenderResult staged = renderUnder(scene, derivative, "VKTG_DEVICE_MEMORY", "staged");
-    expectBitIdentical(mapped.mean, staged.mean, "image");
+    expectSameImages(mapped, staged);
     expectBitIdentical(mapped.variance, staged.variance, "variance");
-    for (size_t k = 0; k < mapped.derivatives.size(); ++k)
-      expectBitIdentical(mapped.derivatives[k], staged.derivatives[k], "derivative");
   }
 }
 

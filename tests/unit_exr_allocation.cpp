@@ -110,7 +110,11 @@ TEST_F(ExrHeaderLengths, APreviewLargerThanItsAttribute) {
   std::string bytes = test::readAll(file);
   putLittleEndian(bytes, valueOf(bytes, "preview", "preview"), 65535);
   putLittleEndian(bytes, valueOf(bytes, "preview", "preview") + 4, 65535);
-  expectRefused(bytes, {"\"preview\" (preview)", "65535 x 65535 preview needs 17179344908 bytes"});
+  expectRefused(bytes, {"\"preview\" (preview)", "65535 x 65535 preview needs 4294836225 pixels of 4 bytes"});
+  // 2^31 x 2^31 pixels of 4 bytes are 2^64 bytes: a byte count would wrap to 0 and pass.
+  putLittleEndian(bytes, valueOf(bytes, "preview", "preview"), 1u << 31);
+  putLittleEndian(bytes, valueOf(bytes, "preview", "preview") + 4, 1u << 31);
+  expectRefused(bytes, {"\"preview\" (preview)", "2147483648 x 2147483648 preview needs 4611686018427387904 pixels"});
 }
 
 }  // namespace

@@ -276,10 +276,11 @@ static void checkAttributeContents(const fs::path& path, const std::string& byte
     }
   } else if (type == "preview") {
     if (size < 8) bad("a preview needs at least 8 bytes, not " + held);
+    // width x height fits 64 bits; four bytes a pixel might not, so compare pixels.
     const uint64_t width = littleEndian32(bytes, at), height = littleEndian32(bytes, at + 4);
-    if (width * height * 4 > size - 8)
+    if (width * height > (size - 8) / 4)
       bad("its " + std::to_string(width) + " x " + std::to_string(height) + " preview needs " +
-          std::to_string(width * height * 4 + 8) + " bytes, more than its " + held);
+          std::to_string(width * height) + " pixels of 4 bytes, more than its " + held + " hold");
   }
 }
 
