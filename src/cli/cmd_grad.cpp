@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/scan_views.h"
 #include "host/gradient.h"
 #include "vktg/image_io.h"
 
@@ -17,19 +18,22 @@ std::vector<OptionSpec> derivativeOptions() {
   options.push_back({"--param", "NAMES", "comma-separated parameter names from the scene (a * matches any text)"});
   options.push_back({"--out", "FILE.exr", "output (default out/grad.exr or out/fd.exr); PNG previews go beside it"});
   options.push_back({"--npy", "", "also write FILE.npy, float32 of shape (H, W, parameters x layers)"});
+  options.push_back(scanOption("the derivative images"));
   for (auto& o : deviceOptions()) options.push_back(o);
   return options;
 }
 
-// One EXR layer per (parameter, gate layer): "param" or "param.bin_...".
-ImageSet derivativeLayers(const std::vector<std::string>& names, const std::vector<ImageSet>& images) {
+// One EXR layer per (parameter, gate layer): "param" or "param.bin_...". With a scan, laid out as
+// the scan's image (scanImage).
+ImageSet derivativeLayers(const std::vector<std::string>& names, const std::vector<ImageSet>& images,
+                          const std::optional<Scan>& scan, CameraType camera) {
   ImageSet out;
   out.width = images.at(0).width;
   out.height = images.at(0).height;
   for (size_t p = 0; p < names.size(); ++p)
     for (const ImageLayer& layer : images[p].layers)
       out.layers.push_back({layer.name.empty() ? names[p] : names[p] + "." + layer.name, layer.pixels});
-  return out;
+  return scan ? scanImage(std::move(out), *scan, camera) : out;
 }
 
 // PNG previews in a diverging colormap, one per parameter (first layer; a contact sheet would
@@ -68,7 +72,8 @@ const CommandSpec& gradSpec() {
     s.options.push_back({"--antithetic", "MODE", "auto | on | off: antithetic pairs (mirrored lengths of a gaussian gate; both jumps of a box or truncated gaussian in the path-length-boundary pass), auto: for near-delta gates (default)"});
     s.options.push_back({"--explain", "", "print the planner's choices and why"});
     s.examples = "  vktg grad scenes/occluder_shadow.json --param occluder_x,floor_albedo\n"
-                 "  vktg grad scenes/confocal_plane.json --param '*' --spp 100000\n";
+                 "  vktg grad scenes/confocal_plane.json --param '*' --spp 100000\n"
+                 "  vktg grad experiments/confocal_scan/scene.json --scan experiments/confocal_scan/scan.json --param h27,h36\n";
     return s;
   }();
   return spec;
@@ -122,19 +127,21 @@ int runGrad(const std::vector<std::string>& argv) {
   applyEstimatorOptions(args, options);
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "grad");
-  checkOutputPath(exr, {args.positionals[0]});
+  std::vector<std::filesystem::path> inputs = {args.positionals[0]};
+  const std::optional<Scan> scan = scanOf(args, scene, inputs);
+  checkOutputPath(exr, inputs);
   for (const char* term : {".interior.exr", ".edge.exr", ".pathlength.exr", ".npy"})
-    checkOutputPath(withExtension(exr, term), {args.positionals[0]});
+    checkOutputPath(withExtension(exr, term), inputs);
   auto context = makeContext(args);
   Renderer renderer(*context);
   options.progress = makeProgress("grad", quiet);
-  GradientResult result = renderGradient(renderer, scene, names, gradient);
+  GradientResult result = renderGradient(renderer, scene, names, gradient, scan ? scanViews(*scan, scene) : std::vector<RenderView>{});
   if (args.has("--explain")) {
     std::cout << "plan (" << context->report().name << "):\n" << explainPlan(result.primal.plan);
     for (const std::string& reason : result.plan.reasons) std::cout << "  - " << reason << "\n";
     std::cout << "  - " << names.size() << " parameter(s) in blocks of " << kMaxDerivativeLanes << " lanes\n";
   }
-  ImageSet layers = derivativeLayers(names, result.total.derivatives);
+  ImageSet layers = derivativeLayers(names, result.total.derivatives, scan, scene.camera.type);
   writeExr(exr, layers);
   if (args.has("--split-terms")) {
     for (const auto& [term, images] : {std::pair<const char*, const TermImages*>{"interior", &result.interior},
@@ -142,7 +149,7 @@ int runGrad(const std::vector<std::string>& argv) {
                                        std::pair<const char*, const TermImages*>{"pathlength", &result.pathLength}}) {
       if (images->derivatives.empty()) continue;
       std::filesystem::path split = withExtension(exr, std::string(".") + term + ".exr");
-      writeExr(split, derivativeLayers(names, images->derivatives));
+      writeExr(split, derivativeLayers(names, images->derivatives, scan, scene.camera.type));
       if (!quiet) std::fprintf(stderr, "vktg: wrote %s\n", split.string().c_str());
     }
   }
@@ -170,12 +177,15 @@ int runFd(const std::vector<std::string>& argv) {
   applyEstimatorOptions(args, options);
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "fd");
-  checkOutputPath(exr, {args.positionals[0]});
+  std::vector<std::filesystem::path> inputs = {args.positionals[0]};
+  const std::optional<Scan> scan = scanOf(args, scene, inputs);
+  checkOutputPath(exr, inputs);
   auto context = makeContext(args);
   Renderer renderer(*context);
   options.progress = makeProgress("fd", quiet);
-  FiniteDifferenceResult fd = finiteDifference(renderer, scene, *param, *eps, options);
-  ImageSet layers = derivativeLayers({*param}, {fd.derivative});
+  FiniteDifferenceResult fd =
+      finiteDifference(renderer, scene, *param, *eps, options, scan ? scanViews(*scan, scene) : std::vector<RenderView>{});
+  ImageSet layers = derivativeLayers({*param}, {fd.derivative}, scan, scene.camera.type);
   writeExr(exr, layers);
   writePreviews(exr, layers, quiet);
   if (args.has("--npy")) writeNpy(withExtension(exr, ".npy"), layers);

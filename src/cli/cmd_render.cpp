@@ -6,35 +6,12 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/scan_views.h"
 #include "host/nee_pilot.h"
 #include "host/renderer.h"
-#include "scene/scan.h"
-#include "scene/seeds.h"
 #include "vktg/image_io.h"
 
 namespace vktg::cli {
-namespace {
-
-// The render views of a scan: each view's camera and lights, and its own random numbers.
-std::vector<RenderView> scanViews(const Scan& scan, const Scene& scene) {
-  std::vector<RenderView> views;
-  for (size_t k = 0; k < scan.views.size(); ++k)
-    views.push_back({cameraSeenFrom(scene.camera, scan.views[k]), derivedSeed((uint64_t(scene.render.seed) << 32) ^ k),
-                     scan.views[k].lightPositions});
-  return views;
-}
-
-// A scan's image: at a point sensor (one pixel per view) the grid, view j * columns + i at pixel
-// (i, j); behind a pinhole the views' images one below the other, as the render stacks them.
-ImageSet scanImage(ImageSet stacked, const Scan& scan, CameraType camera) {
-  if (camera == CameraType::PointSensor) {
-    stacked.width = scan.columns;
-    stacked.height = scan.rows;
-  }
-  return stacked;
-}
-
-}  // namespace
 
 const CommandSpec& renderSpec() {
   static const CommandSpec spec = [] {
@@ -51,10 +28,7 @@ const CommandSpec& renderSpec() {
     s.options = sceneOverrideOptions();
     s.options.push_back({"--out", "FILE.exr", "output image (default out/render.exr); the PNG goes beside it"});
     s.options.push_back({"--npy", "", "also write FILE.npy, float32 of shape (H, W, T)"});
-    s.options.push_back({"--scan", "FILE.json",
-                         "render every view of a scan file (a grid of sensor and laser positions on a relay wall, or a "
-                         "list of views) in one render; at a point sensor the image is the scan grid, one pixel per "
-                         "point (docs/scene-format.md, Scans); behind a pinhole the views' images one below the other"});
+    s.options.push_back(scanOption("the image"));
     s.options.push_back({"--profile", "", "print GPU time per pass"});
     s.options.push_back({"--explain", "", "print the planner's choices and why"});
     s.options.push_back({"--pilot", "WHEN",
@@ -94,11 +68,7 @@ int runRender(const std::vector<std::string>& argv) {
   std::filesystem::path npy = withExtension(exr, ".npy");
   std::vector<std::filesystem::path> inputs;
   if (!args.positionals.empty()) inputs.push_back(args.positionals[0]);
-  std::optional<Scan> scan;
-  if (auto file = args.get("--scan")) {
-    scan = loadScan(*file, scene);
-    inputs.push_back(*file);
-  }
+  const std::optional<Scan> scan = scanOf(args, scene, inputs);
   for (const auto& out : {exr, png, npy}) checkOutputPath(out, inputs);
 
   auto context = makeContext(args);

@@ -173,16 +173,22 @@ std::vector<TermPass> termPasses(const GradientPlan& plan, const Gate& gate, con
   return passes;
 }
 
+// A render of `setup`, or of `views` where there are any (setup then gives what they share).
+RenderResult renderOf(Renderer& renderer, DeviceScene& scene, const RenderSetup& setup, const std::vector<RenderView>& views,
+                      const RenderOptions& options) {
+  return views.empty() ? renderer.render(scene, setup, options) : renderer.render(scene, setup, views, options);
+}
+
 // Renders one term for every parameter, in blocks of kMaxDerivativeLanes lanes.
 TermImages renderTerm(Renderer& renderer, DeviceScene& scene, const RenderSetup& setup,
-                      const std::vector<ParameterBinding>& bindings, const RenderOptions& options, RenderStats& stats,
-                      RenderResult* primal) {
+                      const std::vector<RenderView>& views, const std::vector<ParameterBinding>& bindings,
+                      const RenderOptions& options, RenderStats& stats, RenderResult* primal) {
   TermImages term;
   for (size_t first = 0; first < bindings.size(); first += kMaxDerivativeLanes) {
     RenderOptions block = options;
     size_t last = std::min(bindings.size(), first + kMaxDerivativeLanes);
     block.derivativeLanes.assign(bindings.begin() + first, bindings.begin() + last);
-    RenderResult r = renderer.render(scene, setup, block);
+    RenderResult r = renderOf(renderer, scene, setup, views, block);
     addStats(stats, r.stats);
     for (size_t k = 0; k < r.derivatives.size(); ++k) {
       term.derivatives.push_back(std::move(r.derivatives[k]));
@@ -216,12 +222,13 @@ std::vector<uint32_t> parameterIndices(const Scene& scene, const std::vector<std
 }  // namespace
 
 GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std::vector<std::string>& parameters,
-                              const GradientOptions& options) {
+                              const GradientOptions& options, const std::vector<RenderView>& views) {
   if (parameters.empty()) throw Error("--param: no parameters selected");
   std::vector<ParameterBinding> bindings = bindParameters(scene, parameters);
   GradientResult result;
   result.parameters = parameters;
-  const RenderSetup setup = RenderSetup::of(scene);
+  RenderSetup setup = RenderSetup::of(scene);
+  if (!views.empty()) setup.camera = views.front().camera;  // the planner sees the first view
   result.plan = planGradient(scene, setup, parameterEffects(scene, parameterIndices(scene, parameters)), options);
   // One upload of the scene serves every term and block.
   DeviceScene deviceScene(renderer.context(), scene);
@@ -229,13 +236,13 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
   if (!result.plan.interior) {
     RenderOptions plain = options.render;
     plain.antithetic = result.plan.antithetic && scene.gate.type == GateType::Gaussian;
-    result.primal = renderer.render(deviceScene, setup, plain);
+    result.primal = renderOf(renderer, deviceScene, setup, views, plain);
     addStats(result.stats, result.primal.stats);
   }
   for (const TermPass& pass : passes) {
     RenderSetup termSetup = setup;
     if (pass.spp > 0) termSetup.settings.spp = pass.spp;
-    TermImages images = renderTerm(renderer, deviceScene, termSetup, bindings, pass.options, result.stats,
+    TermImages images = renderTerm(renderer, deviceScene, termSetup, views, bindings, pass.options, result.stats,
                                    pass.term == Term::Interior ? &result.primal : nullptr);
     accumulateTerm(result.total, images);
     switch (pass.term) {
@@ -409,11 +416,17 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
 }
 
 FiniteDifferenceResult finiteDifference(Renderer& renderer, const Scene& scene, const std::string& parameter,
-                                        double eps, const RenderOptions& options) {
+                                        double eps, const RenderOptions& options, const std::vector<RenderView>& views) {
   if (!(eps > 0)) throw Error("--eps: must be a positive step");
   findParameter(scene, parameter, "--param");
-  RenderResult plus = renderer.render(perturbScene(scene, parameter, eps), options);
-  RenderResult minus = renderer.render(perturbScene(scene, parameter, -eps), options);
+  auto renderAt = [&](double step) {
+    const Scene perturbed = perturbScene(scene, parameter, step);
+    if (views.empty()) return renderer.render(perturbed, options);
+    DeviceScene device(renderer.context(), perturbed);
+    return renderer.render(device, RenderSetup::of(perturbed), views, options);
+  };
+  RenderResult plus = renderAt(eps);
+  RenderResult minus = renderAt(-eps);
   FiniteDifferenceResult fd;
   fd.derivative = plus.mean;
   fd.variance = plus.variance;

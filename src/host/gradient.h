@@ -76,8 +76,10 @@ struct GradientResult {
   RenderStats stats;                   // summed over passes and blocks
 };
 
+// With `views` (a scan's, Renderer::render of RenderViews), every render holds all of them, and
+// each image holds the views' images one below the other.
 GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std::vector<std::string>& parameters,
-                              const GradientOptions& options);
+                              const GradientOptions& options, const std::vector<RenderView>& views = {});
 // The same with every term the planner chooses and default settings.
 GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std::vector<std::string>& parameters,
                               const RenderOptions& options);
@@ -134,7 +136,8 @@ struct LossGradient {
 LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
                           const GradientOptions& options, AdjointState& state);
 
+// With `views`, both sides render all of them, as renderGradient does.
 FiniteDifferenceResult finiteDifference(Renderer& renderer, const Scene& scene, const std::string& parameter,
-                                        double eps, const RenderOptions& options);
+                                        double eps, const RenderOptions& options, const std::vector<RenderView>& views = {});
 
 }  // namespace vktg

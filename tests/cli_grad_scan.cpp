@@ -1,0 +1,126 @@
+// End-to-end tests of `vktg grad --scan` and `vktg fd --scan`: the derivative images of every view of
+// a scan come from renders that hold all the views, laid out as `vktg render --scan` lays out the
+// scan's image, and each view's derivatives are bit for bit those of the one-view command at that
+// point (its sensor and laser moved there, its seed the scan's derived seed), for every term.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/seeds.h"
+#include "support/cli_runner.h"
+#include "vktg/image_io.h"
+
+namespace vktg::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const fs::path kScene = fs::path(VKTG_SOURCE_DIR) / "experiments" / "confocal_scan" / "scene.json";
+constexpr uint32_t kSeed = 11;
+
+CliResult runOk(const std::vector<std::string>& args, const TempDir& dir) {
+  CliResult r = runVktg(args, {.cwd = dir.path()});
+  EXPECT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_TRUE(linesStartingWith(r.err, "vktg: error:").empty()) << r.describe();
+  return r;
+}
+
+void writeJson(const fs::path& path, const json& value) { std::ofstream(path) << value.dump(1); }
+
+// A 2 x 2 grid of confocal points on the relay wall (y = 1), the laser at each.
+json gridScan() {
+  return {{"version", 1},
+          {"grid",
+           {{"corner", {-0.2, 1.0, -0.2}}, {"across", {0.4, 0.0, 0.0}}, {"down", {0.0, 0.0, 0.4}},
+            {"resolution", {2, 2}}, {"lights", {"laser"}}}}};
+}
+
+// The scene as seen from grid point k alone, and the options that render it as the scan's view k.
+std::vector<std::string> onePointArgs(const std::vector<std::string>& command, uint32_t k, const TempDir& dir) {
+  json scene;
+  std::ifstream(kScene) >> scene;
+  const json point = {-0.2 + 0.4 * (k % 2), 1.0, -0.2 + 0.4 * (k / 2)};
+  scene["camera"]["position"] = point;
+  scene["lights"][0]["position"] = point;
+  writeJson(dir / "point.json", scene);
+  std::vector<std::string> args = command;
+  args.insert(args.begin() + 1, (dir / "point.json").string());
+  args[std::find(args.begin(), args.end(), "--seed") - args.begin() + 1] =
+      std::to_string(derivedSeed((uint64_t(kSeed) << 32) ^ k));
+  return args;
+}
+
+// Runs `command` (its scene inserted as the first argument) on the scan and at points 0 and 3 alone,
+// and compares every layer of `file` (relative to the run folder) pixel by pixel.
+void expectScanPixelsAreTheOnePointImages(const std::vector<std::string>& command, const std::string& file,
+                                          bool expectNonZero) {
+  TempDir dir;
+  writeJson(dir / "scan.json", gridScan());
+  std::vector<std::string> scanArgs = command;
+  scanArgs.insert(scanArgs.begin() + 1, kScene.string());
+  for (const std::string& a : {std::string("--scan"), (dir / "scan.json").string(), std::string("--out"), (dir / "scan.exr").string()})
+    scanArgs.push_back(a);
+  runOk(scanArgs, dir);
+  const ImageSet scan = readExr(dir / ("scan" + file));
+  ASSERT_EQ(scan.width, 2u);
+  ASSERT_EQ(scan.height, 2u);
+  ASSERT_FALSE(scan.layers.empty());
+  double magnitude = 0;
+  for (uint32_t k : {0u, 3u}) {
+    std::vector<std::string> one = onePointArgs(command, k, dir);
+    one.push_back("--out");
+    one.push_back((dir / "point.exr").string());
+    runOk(one, dir);
+    const ImageSet alone = readExr(dir / ("point" + file));
+    ASSERT_EQ(alone.width * alone.height, 1u);
+    ASSERT_EQ(alone.layers.size(), scan.layers.size());
+    for (size_t l = 0; l < alone.layers.size(); ++l) {
+      EXPECT_EQ(scan.layers[l].name, alone.layers[l].name);
+      EXPECT_EQ(scan.layers[l].pixels[k], alone.layers[l].pixels[0]) << "point " << k << ", layer " << scan.layers[l].name;
+      magnitude += std::abs(alone.layers[l].pixels[0]);
+    }
+  }
+  if (expectNonZero) EXPECT_GT(magnitude, 0) << "the heights below the points change their transients";
+}
+
+const std::vector<std::string> kCommon = {"--spp", "256", "--seed", std::to_string(kSeed), "--nee", "standard"};
+
+std::vector<std::string> command(std::vector<std::string> head) {
+  head.insert(head.end(), kCommon.begin(), kCommon.end());
+  return head;
+}
+
+TEST(CliGradScan, EveryTermOfAViewIsTheOnePointDerivative) {
+  // h27 and h36 lie under the middle of the hidden surface, seen from every point of the grid.
+  const std::vector<std::string> grad = command({"grad", "--param", "h27,h36", "--split-terms"});
+  expectScanPixelsAreTheOnePointImages(grad, ".exr", true);
+  expectScanPixelsAreTheOnePointImages(grad, ".interior.exr", true);
+  // At a point sensor the first hit is a material point, so a border's own motion is the interior
+  // term's and only what a silhouette uncovers behind it is the edge term's: nothing, here (zeros,
+  // but the same ones).
+  expectScanPixelsAreTheOnePointImages(grad, ".edge.exr", false);
+  expectScanPixelsAreTheOnePointImages(grad, ".pathlength.exr", true);
+}
+
+TEST(CliGradScan, FiniteDifferencesOfAViewAreTheOnePointOnes) {
+  expectScanPixelsAreTheOnePointImages(command({"fd", "--param", "h27", "--eps", "0.01"}), ".exr", true);
+}
+
+TEST(CliGradScan, AScanFileThatIsNoScanNamesItsFieldAndWritesNothing) {
+  TempDir dir;
+  writeJson(dir / "scan.json", {{"version", 1}, {"grid", {{"corner", {0, 1, 0}}}}});
+  const CliResult r = runVktg({"grad", kScene.string(), "--param", "h27", "--scan", (dir / "scan.json").string(), "--out",
+                               (dir / "g.exr").string()},
+                              {.cwd = dir.path()});
+  EXPECT_TRUE(r.exited && r.exitCode != 0) << r.describe();
+  EXPECT_NE(r.err.find("scan.json"), std::string::npos) << r.describe();
+  EXPECT_NE(r.err.find("grid"), std::string::npos) << r.describe();
+  EXPECT_FALSE(fs::exists(dir / "g.exr"));
+}
+
+}  // namespace
+}  // namespace vktg::test
