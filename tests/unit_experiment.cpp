@@ -195,6 +195,7 @@ const BadCase kCases[] = {
      "missing required field"},
     {"step every zero", [](json& j) { j["optimizer"]["schedule"] = {{"type", "step"}, {"decay", 0.5}, {"every", 0}}; },
      "optimizer.schedule.every", "out of range"},
+    {"negative warmup", [](json& j) { j["optimizer"]["schedule"]["warmup"] = -1; }, "optimizer.schedule.warmup", "out of range"},
     {"every of an exponential schedule", [](json& j) { j["optimizer"]["schedule"]["every"] = 5; }, "optimizer.schedule.every",
      "unknown field"},
     // Regularisers and preconditioner.
@@ -355,6 +356,7 @@ TEST(Experiment, CompleteExampleParsesFieldByField) {
   EXPECT_EQ(o.schedule.type, ScheduleType::Step);
   EXPECT_EQ(o.schedule.decay, 0.5);
   EXPECT_EQ(o.schedule.every, 50u);
+  EXPECT_EQ(o.schedule.warmup, 5u);
   ASSERT_EQ(x.regularizers.size(), 1u);
   EXPECT_EQ(x.regularizers[0].shape, 0u);
   EXPECT_EQ(x.regularizers[0].weight, 0.1);

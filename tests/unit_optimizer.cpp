@@ -146,6 +146,24 @@ TEST(Optimizer, StepScheduleDecaysEveryNSteps) {
   }
 }
 
+TEST(Optimizer, WarmupRampsAnyScheduleOverItsFirstSteps) {
+  OptimizerSpec spec = sgd(0.8, 0.0);
+  spec.schedule = {ScheduleType::Exponential, 0.5, 1, 4};
+  Optimizer optimizer(spec, parameters(1));
+  std::vector<double> theta{0.0};
+  // Step i: 0.8 * 0.5^i, times (i + 1) / 4 for the first four.
+  const double expected[] = {0.2, 0.2, 0.15, 0.1, 0.05, 0.025};
+  for (double rate : expected) {
+    EXPECT_DOUBLE_EQ(optimizer.learningRate(0), rate) << "after " << optimizer.state().steps << " steps";
+    optimizer.step(theta, {1.0});
+  }
+  spec.schedule = {ScheduleType::Constant, 1.0, 1, 2};
+  Optimizer constant(spec, parameters(1));
+  EXPECT_DOUBLE_EQ(constant.learningRate(0), 0.4);
+  constant.step(theta, {1.0});
+  EXPECT_DOUBLE_EQ(constant.learningRate(0), 0.8);
+}
+
 TEST(Optimizer, ConstantScheduleKeepsTheRate) {
   Optimizer optimizer(sgd(0.3, 0.5), parameters(1));
   std::vector<double> theta{0.0};

@@ -379,7 +379,7 @@ class ExperimentParser {
 
   void parseSchedule(const JsonValue& value) {
     const std::string type = typeOf(value, {"constant", "exponential", "step"});
-    std::vector<std::string_view> allowed = {"type"};
+    std::vector<std::string_view> allowed = {"type", "warmup"};
     if (type != "constant") allowed.push_back("decay");
     if (type == "step") allowed.push_back("every");
     const JsonObject o(value, allowed);
@@ -387,6 +387,7 @@ class ExperimentParser {
     schedule.type = type == "constant" ? ScheduleType::Constant
                     : type == "exponential" ? ScheduleType::Exponential
                                             : ScheduleType::Step;
+    if (o.has("warmup")) schedule.warmup = o.field("warmup").uinteger(0, kMaxUint32);
     if (type == "constant") return;
     const JsonValue decay = o.field("decay");
     schedule.decay = decay.number();

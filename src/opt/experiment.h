@@ -64,6 +64,9 @@ struct ScheduleSpec {
   ScheduleType type = ScheduleType::Constant;
   double decay = 1.0;               // exponential: lr * decay^iteration; step: lr * decay^(iteration / every)
   uint32_t every = 1;               // step
+  // Any type: the first `warmup` steps scale the rate by (step + 1) / warmup, so that Adam's moments
+  // have averaged several noisy gradients before it takes full-sized steps.
+  uint32_t warmup = 0;
 };
 
 struct OptimizerSpec {
