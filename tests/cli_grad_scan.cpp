@@ -22,13 +22,6 @@ using nlohmann::json;
 const fs::path kScene = fs::path(VKTG_SOURCE_DIR) / "experiments" / "confocal_scan" / "scene.json";
 constexpr uint32_t kSeed = 11;
 
-CliResult runOk(const std::vector<std::string>& args, const TempDir& dir) {
-  CliResult r = runVktg(args, {.cwd = dir.path()});
-  EXPECT_TRUE(r.exited && r.exitCode == 0) << r.describe();
-  EXPECT_TRUE(linesStartingWith(r.err, "vktg: error:").empty()) << r.describe();
-  return r;
-}
-
 void writeJson(const fs::path& path, const json& value) { std::ofstream(path) << value.dump(1); }
 
 // A 2 x 2 grid of confocal points on the relay wall (y = 1), the laser at each.
@@ -64,7 +57,7 @@ void expectScanPixelsAreTheOnePointImages(const std::vector<std::string>& comman
   scanArgs.insert(scanArgs.begin() + 1, kScene.string());
   for (const std::string& a : {std::string("--scan"), (dir / "scan.json").string(), std::string("--out"), (dir / "scan.exr").string()})
     scanArgs.push_back(a);
-  runOk(scanArgs, dir);
+  runVktgOk(scanArgs, dir);
   const ImageSet scan = readExr(dir / ("scan" + file));
   ASSERT_EQ(scan.width, 2u);
   ASSERT_EQ(scan.height, 2u);
@@ -74,7 +67,7 @@ void expectScanPixelsAreTheOnePointImages(const std::vector<std::string>& comman
     std::vector<std::string> one = onePointArgs(command, k, dir);
     one.push_back("--out");
     one.push_back((dir / "point.exr").string());
-    runOk(one, dir);
+    runVktgOk(one, dir);
     const ImageSet alone = readExr(dir / ("point" + file));
     ASSERT_EQ(alone.width * alone.height, 1u);
     ASSERT_EQ(alone.layers.size(), scan.layers.size());

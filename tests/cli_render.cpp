@@ -22,14 +22,6 @@ namespace fs = std::filesystem;
 
 // Runs a command that must succeed, with the working directory in `dir` so that nothing lands
 // in the source tree.
-CliResult runOk(const std::vector<std::string>& args, const TempDir& dir) {
-  CliResult r = runVktg(args, {.cwd = dir.path()});
-  EXPECT_TRUE(r.exited && r.exitCode == 0) << r.describe();
-  EXPECT_EQ(r.err.find("vktg: validation:"), std::string::npos) << r.describe();
-  EXPECT_TRUE(linesStartingWith(r.err, "vktg: error:").empty()) << r.describe();
-  return r;
-}
-
 void expectFiniteNonNegative(const ImageSet& images) {
   for (const ImageLayer& layer : images.layers)
     for (size_t i = 0; i < layer.pixels.size(); ++i) {
@@ -78,7 +70,7 @@ bool mentionsSeconds(const std::string& text) { return std::regex_search(text, s
 TEST(CliRender, DefaultSceneWritesExrAndPngAndSaysWhereAndHowLong) {
   TempDir dir;
   const fs::path exr = dir / "image.exr";
-  CliResult r = runOk({"render", "--spp", "2", "--resolution", "16x16", "--out", exr.string()}, dir);
+  CliResult r = runVktgOk({"render", "--spp", "2", "--resolution", "16x16", "--out", exr.string()}, dir);
   ASSERT_TRUE(fs::is_regular_file(exr)) << r.describe();
   const fs::path png = dir / "image.png";
   ASSERT_TRUE(fs::is_regular_file(png)) << r.describe();
@@ -103,7 +95,7 @@ TEST(CliRender, DefaultSceneWritesExrAndPngAndSaysWhereAndHowLong) {
 
 TEST(CliRender, QuietPrintsNothingOnStderr) {
   TempDir dir;
-  CliResult r = runOk({"render", "--spp", "1", "--resolution", "8x8", "--quiet", "--out", (dir / "q.exr").string()}, dir);
+  CliResult r = runVktgOk({"render", "--spp", "1", "--resolution", "8x8", "--quiet", "--out", (dir / "q.exr").string()}, dir);
   EXPECT_EQ(r.err, "") << r.describe();
   EXPECT_TRUE(fs::is_regular_file(dir / "q.exr"));
 }
@@ -111,7 +103,7 @@ TEST(CliRender, QuietPrintsNothingOnStderr) {
 TEST(CliRender, TransientStackIsMultiLayerExrNamedByBinAndNpyOfShapeHWT) {
   TempDir dir;
   const fs::path exr = dir / "stack.exr";
-  CliResult r = runOk({"render", "--spp", "2", "--resolution", "16x12", "--gate", "bins:3,0.5,6", "--npy", "--out",
+  CliResult r = runVktgOk({"render", "--spp", "2", "--resolution", "16x12", "--gate", "bins:3,0.5,6", "--npy", "--out",
                        exr.string()},
                       dir);
   ASSERT_TRUE(fs::is_regular_file(exr)) << r.describe();
@@ -149,7 +141,7 @@ TEST(CliRender, TransientStackIsMultiLayerExrNamedByBinAndNpyOfShapeHWT) {
 
 TEST(CliRender, HelpOfEveryCommandExitsZero) {
   TempDir dir;
-  CliResult top = runOk({"--help"}, dir);
+  CliResult top = runVktgOk({"--help"}, dir);
   EXPECT_NE(top.out.find("usage: vktg"), std::string::npos) << top.describe();
   // Every command the top-level help lists (lines "  NAME  summary" after "commands:").
   std::vector<std::string> commands;
@@ -165,7 +157,7 @@ TEST(CliRender, HelpOfEveryCommandExitsZero) {
   EXPECT_NE(std::find(commands.begin(), commands.end(), "info"), commands.end());
   for (const std::string& command : commands) {
     SCOPED_TRACE("vktg " + command + " --help");
-    CliResult r = runOk({command, "--help"}, dir);
+    CliResult r = runVktgOk({command, "--help"}, dir);
     EXPECT_NE(r.out.find("usage: vktg " + command), std::string::npos) << r.describe();
   }
   EXPECT_TRUE(dir.entries().empty());
@@ -173,13 +165,13 @@ TEST(CliRender, HelpOfEveryCommandExitsZero) {
 
 TEST(CliRender, InfoListsAUsableDevice) {
   TempDir dir;
-  CliResult r = runOk({"info"}, dir);
+  CliResult r = runVktgOk({"info"}, dir);
   EXPECT_NE(r.out.find("usable by vktg: yes"), std::string::npos) << r.describe();
 }
 
 TEST(CliRender, ExplainPrintsThePlan) {
   TempDir dir;
-  CliResult r = runOk({"render", "--spp", "1", "--resolution", "8x8", "--gate", "box:3.5,4.5", "--explain", "--out",
+  CliResult r = runVktgOk({"render", "--spp", "1", "--resolution", "8x8", "--gate", "box:3.5,4.5", "--explain", "--out",
                        (dir / "e.exr").string()},
                       dir);
   EXPECT_NE(r.out.find("plan"), std::string::npos) << r.describe();
@@ -195,7 +187,7 @@ TEST(CliRender, ExplainShowsThePilotThatChoseTheEstimatorOrWhyNone) {
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> args = base;
     args.insert(args.end(), extra.begin(), extra.end());
-    return runOk(args, dir).out;
+    return runVktgOk(args, dir).out;
   };
   // A 4x4 render is mostly launch cost: nine pilot renders would cost more than a quarter of it.
   const std::string stopped = with({"--spp", "256"});
@@ -219,7 +211,7 @@ TEST(CliRender, ExplainShowsThePilotThatChoseTheEstimatorOrWhyNone) {
 TEST(CliRender, SameSeedGivesIdenticalImagesAndAnotherSeedDoesNot) {
   TempDir dir;
   auto render = [&](const std::string& name, const std::string& seed) {
-    runOk({"render", "--spp", "2", "--resolution", "16x16", "--seed", seed, "--quiet", "--out", (dir / name).string()},
+    runVktgOk({"render", "--spp", "2", "--resolution", "16x16", "--seed", seed, "--quiet", "--out", (dir / name).string()},
           dir);
     return readFileBytes(dir / name);
   };
@@ -247,7 +239,7 @@ TEST(CliRender, ExampleScenesRender) {
       args.push_back("--resolution");
       args.push_back("16x16");
     }
-    runOk(args, dir);
+    runVktgOk(args, dir);
     ASSERT_TRUE(fs::is_regular_file(dir / "x.exr"));
     expectFiniteNonNegative(readExr(dir / "x.exr"));
   }

@@ -23,13 +23,6 @@ using nlohmann::json;
 const fs::path kScene = fs::path(VKTG_SOURCE_DIR) / "experiments" / "confocal_scan" / "scene.json";
 constexpr uint32_t kSeed = 7;
 
-CliResult runOk(const std::vector<std::string>& args, const TempDir& dir) {
-  CliResult r = runVktg(args, {.cwd = dir.path()});
-  EXPECT_TRUE(r.exited && r.exitCode == 0) << r.describe();
-  EXPECT_TRUE(linesStartingWith(r.err, "vktg: error:").empty()) << r.describe();
-  return r;
-}
-
 void writeJson(const fs::path& path, const json& value) { std::ofstream(path) << value.dump(1); }
 
 json readJson(const fs::path& path) {
@@ -49,7 +42,7 @@ TEST(CliRenderScan, GridPixelsAreTheOneViewRendersOfTheirPoints) {
   std::vector<std::string> args = {"render", kScene.string(), "--scan", (dir / "scan.json").string(), "--npy",
                                    "--out", (dir / "scan.exr").string()};
   args.insert(args.end(), common.begin(), common.end());
-  const CliResult r = runOk(args, dir);
+  const CliResult r = runVktgOk(args, dir);
   EXPECT_NE(r.err.find("6 scan views (3 x 2) in one render"), std::string::npos) << r.describe();
   const ImageSet image = readExr(dir / "scan.exr");
   ASSERT_EQ(image.width, 3u);
@@ -72,7 +65,7 @@ TEST(CliRenderScan, GridPixelsAreTheOneViewRendersOfTheirPoints) {
     one.insert(one.end(), common.begin(), common.end());
     one[std::find(one.begin(), one.end(), "--seed") - one.begin() + 1] =
         std::to_string(derivedSeed((uint64_t(kSeed) << 32) ^ k));
-    runOk(one, dir);
+    runVktgOk(one, dir);
     const ImageSet alone = readExr(dir / "point.exr");
     ASSERT_EQ(alone.width * alone.height, 1u);
     ASSERT_EQ(alone.layers.size(), image.layers.size());
@@ -88,7 +81,7 @@ TEST(CliRenderScan, PinholeViewsStackTheirImages) {
   TempDir dir;
   writeJson(dir / "views.json", {{"version", 1},
                                  {"views", {{{"position", {0.0, 1.0, 3.4}}}, {{"position", {0.5, 1.0, 3.4}}}}}});
-  runOk({"render", "--scan", (dir / "views.json").string(), "--spp", "2", "--resolution", "8x6", "--out",
+  runVktgOk({"render", "--scan", (dir / "views.json").string(), "--spp", "2", "--resolution", "8x6", "--out",
          (dir / "views.exr").string()},
         dir);
   const ImageSet image = readExr(dir / "views.exr");
@@ -105,14 +98,14 @@ TEST(CliRenderScan, ARenderedScanIsAnOptimisationTarget) {
                                 {"grid",
                                  {{"corner", {-0.3, 1.0, -0.3}}, {"across", {0.6, 0.0, 0.0}}, {"down", {0.0, 0.0, 0.6}},
                                   {"resolution", {3, 3}}, {"lights", {"laser"}}}}});
-  runOk({"render", "scene.json", "--scan", "scan.json", "--spp", "1024", "--out", "cube.exr"}, dir);
+  runVktgOk({"render", "scene.json", "--scan", "scan.json", "--spp", "1024", "--out", "cube.exr"}, dir);
   writeJson(dir / "experiment.json", {{"version", 1},
                                       {"scene", "scene.json"},
                                       {"parameters", {{{"name", "h*"}, {"initial", 0}}}},
                                       {"targets", {{{"name", "wall"}, {"scan", "scan.json"}, {"image", "cube.exr"}}}},
                                       {"render", {{"spp", 16}}},
                                       {"stop", {{"iterations", 2}}}});
-  const CliResult r = runOk({"optimize", "experiment.json", "--out", "run"}, dir);
+  const CliResult r = runVktgOk({"optimize", "experiment.json", "--out", "run"}, dir);
   // The scan is one entry of the log and of the images: its points' losses summed in one column,
   // its first renders in one cube laid out as the target's.
   const std::string log = readFileBytes(dir / "run" / "log.csv");
@@ -126,7 +119,7 @@ TEST(CliRenderScan, ARenderedScanIsAnOptimisationTarget) {
   EXPECT_TRUE(fs::exists(dir / "run" / "images" / "transients" / "1.png")) << r.describe();
   // A resumed run splits the cube back into its points for the figures.
   fs::remove(dir / "run" / "images" / "transients" / "2.png");
-  const CliResult resumed = runOk({"optimize", "--resume", "run", "--iterations", "3"}, dir);
+  const CliResult resumed = runVktgOk({"optimize", "--resume", "run", "--iterations", "3"}, dir);
   EXPECT_TRUE(fs::exists(dir / "run" / "images" / "transients" / "2.png")) << resumed.describe();
 }
 

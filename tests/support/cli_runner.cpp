@@ -1,5 +1,7 @@
 #include "support/cli_runner.h"
 
+#include <gtest/gtest.h>
+
 #include "support/file_permissions.h"
 #include "support/test_environment.h"
 
@@ -203,6 +205,14 @@ void writeFileBytes(const fs::path& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);
   out << bytes;
   if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+CliResult runVktgOk(const std::vector<std::string>& args, const TempDir& dir) {
+  CliResult r = runVktg(args, {.cwd = dir.path()});
+  EXPECT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_EQ(r.err.find("vktg: validation:"), std::string::npos) << r.describe();
+  EXPECT_TRUE(linesStartingWith(r.err, "vktg: error:").empty()) << r.describe();
+  return r;
 }
 
 }  // namespace vktg::test

@@ -60,6 +60,9 @@ class TempDir {
   std::filesystem::path m_path;
 };
 
+// runVktg in `dir`, expecting success: exit 0, no validation message and no error line.
+CliResult runVktgOk(const std::vector<std::string>& args, const TempDir& dir);
+
 // Every regular file under `dir` with its bytes, and every other entry by name: equal snapshots
 // before and after a run mean it created or changed nothing.
 std::map<std::string, std::string> directorySnapshot(const TempDir& dir);
