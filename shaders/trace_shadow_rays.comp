@@ -201,7 +201,7 @@ void traceConnections() {
   // In slot order: the path's accumulator sees its contributions in the same order on every run.
   // Only the filled slots: a loop over all of them would run a connection's code, traversals
   // included, for every empty slot on a device that masks lanes rather than branching (a CPU).
-  for (uint left = mask; left != 0u; left &= left - 1u) traceConnection(path * kShadowRaysPerPath + uint(findLSB(left)));
+  for (uint left = mask; left != 0u; left &= left - 1u) traceConnection(shadowSlot(path, uint(findLSB(left))));
 }
 
 void main() {

@@ -33,6 +33,10 @@ void addContribution(uint path, float value, float len) {
   }
 }
 
+// Where connection slot `local` of `path` lives: slot-major, so that the paths of a pass, which
+// fill the same slot, write and read neighbouring records.
+uint shadowSlot(uint path, uint local) { return local * frame.pathInfo.w + path; }
+
 // Queues a connection from the path's vertex `depth` (kNoTape: the camera) into its fixed slot
 // (kConnection* `kind`, shared.h); returns the slot (~0 when the value is zero and nothing was
 // queued). The first connection of a path in a bounce puts the path on the shadow queue.
@@ -41,7 +45,7 @@ uint queueShadowRay(uint path, uint depth, uint kind, vec3 p0, vec3 p1, vec3 p2,
                     uint jump) {
   if (value == 0.0) return 0xffffffffu;
   uint local = ((depth == kNoTape ? 0u : depth) & 1u) * kConnectionsPerVertex + kind;
-  uint slot = path * kShadowRaysPerPath + local;
+  uint slot = shadowSlot(path, local);
   ShadowRay r;
   r.p0Value = vec4(p0, value);
   r.p1Length = vec4(p1, len);

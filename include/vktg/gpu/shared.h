@@ -93,7 +93,7 @@ VKTG_CONST(uint, kBindingHits, 15);          // HitRecord[batch]
 // uint[4 * batch]: two path-index queues by depth parity, then the queue of paths with shadow rays
 // to trace, then per path the mask of its filled shadow-ray slots.
 VKTG_CONST(uint, kBindingRayQueues, 16);
-VKTG_CONST(uint, kBindingShadowQueue, 17);   // ShadowRay[path * kShadowRaysPerPath + slot]
+VKTG_CONST(uint, kBindingShadowQueue, 17);   // ShadowRay[slot * batch + path] (lib/path.glsl, shadowSlot)
 VKTG_CONST(uint, kBindingCounters, 18);      // uint[kCounterCount]
 VKTG_CONST(uint, kBindingDispatchArgs, 19);  // uint[3 * kArgsCount]
 VKTG_CONST(uint, kBindingPathAccum, 20);     // float[(batch * layers + layer) * channels + channel], per-path sums
