@@ -7,7 +7,7 @@ namespace vktg::cli {
 OptionSpec scanOption(const char* what) {
   return {"--scan", "FILE.json",
           std::string(what) + " of every view of a scan file (a grid of sensor and laser positions on a relay wall, or a "
-                              "list of views) in one render; at a point sensor the image is the scan grid, one pixel per "
+                              "list of views), the views rendered together; at a point sensor the image is the scan grid, one pixel per "
                               "point (docs/scene-format.md, Scans); behind a pinhole the views' images one below the other"};
 }
 
