@@ -203,8 +203,9 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
   if (options.iterations) e.stop.iterations = *options.iterations;
   // Target images from files are read (and checked against their view and gate) here, once: a
   // scan's file once for all its points.
+  const std::vector<TargetEntry> entries = targetEntries(e);
   std::vector<ImageSet> targets(e.targets.size());
-  for (const TargetEntry& entry : targetEntries(e)) {
+  for (const TargetEntry& entry : entries) {
     const Target& first = e.targets[entry.targets.front()];
     if (first.synthesize) {
       for (const ExperimentParameter& p : e.parameters)
@@ -305,7 +306,6 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
   auto elapsed = [&] { return secondsBefore + std::chrono::duration<double>(std::chrono::steady_clock::now() - runStart).count(); };
   // The first iteration's images, one file per "targets" entry (a scan's laid out as `vktg render
   // --scan` writes it), read back by a resumed run for its figures.
-  const std::vector<TargetEntry> entries = targetEntries(e);
   auto initialImagePath = [&](const TargetEntry& entry) { return run / "images" / (entry.name + "_initial.exr"); };
   std::vector<ImageSet> initialImages(e.targets.size());
   for (const TargetEntry& entry : entries) {

@@ -161,10 +161,11 @@ struct TargetEntry {
 };
 std::vector<TargetEntry> targetEntries(const Experiment& experiment);
 
-// A scan entry's per-point images as one, laid out as `vktg render --scan` writes it (at a point
-// sensor the scan grid, else the views one below the other): each layer holds the points' pixels in
-// scan order. splitScanImage is its inverse; it throws vktg::Error naming `source` when `whole`
-// does not hold the entry's points.
+// A scan entry's point images as one, laid out as `vktg render --scan` writes it (at a point sensor
+// the scan grid, else the views one below the other): `images` is indexed by target, as the
+// experiment's targets are, and each layer holds the points' pixels in scan order. splitScanImage
+// undoes it, returning the entry's point images in its order; it throws vktg::Error naming `source`
+// when `whole` does not hold the entry's points.
 ImageSet joinScanImages(const Experiment& experiment, const TargetEntry& entry, const std::vector<ImageSet>& images);
 std::vector<ImageSet> splitScanImage(const Experiment& experiment, const TargetEntry& entry, const ImageSet& whole,
                                      const std::string& source);

@@ -143,9 +143,10 @@ std::vector<TargetEntry> targetEntries(const Experiment& experiment) {
   std::vector<TargetEntry> entries;
   for (size_t t = 0; t < experiment.targets.size(); ++t) {
     const Target& target = experiment.targets[t];
-    const std::string& name = target.entryName.empty() ? target.name : target.entryName;
-    if (entries.empty() || entries.back().name != name || !target.scanView)
-      entries.push_back({name, {}, target.scanView.has_value()});
+    // A scan's points are consecutive and share their entry; any other target is an entry alone.
+    const bool samePoint = t > 0 && target.scanView && experiment.targets[t - 1].scanView &&
+                           experiment.targets[t - 1].entry == target.entry;
+    if (!samePoint) entries.push_back({target.entryName, {}, target.scanView.has_value()});
     entries.back().targets.push_back(t);
   }
   return entries;
