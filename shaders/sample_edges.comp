@@ -143,6 +143,14 @@ float cameraConnection(vec3 position, vec3 normal, out uint pixel, out vec3 wc, 
   return importance * abs(dot(normal, wc)) / (r * r);
 }
 
+// The refractive index of the medium a direction d leaves a surface point into: a dielectric's
+// inside or outside by the side of its (outward) normal; past any other surface the medium the
+// path was in, `current`.
+float mediumToward(GpuMaterial m, vec3 normal, vec3 d, float current) {
+  if (!sceneHasMaterial(kMaterialDielectric) || m.type != kMaterialDielectric) return current;
+  return dot(normal, d) < 0.0 ? m.ior : 1.0;
+}
+
 // The camera side of a boundary segment that leaves x_a along w: a walk of c >= 1 segments back
 // to the camera, so the boundary segment can sit at any depth of the path. At each vertex that
 // sees the camera (f != 0 towards it) the walk connects with probability kConnectProbability
@@ -150,8 +158,11 @@ float cameraConnection(vec3 position, vec3 normal, out uint pixel, out vec3 wc, 
 // runs against the light's direction); a vertex that cannot connect always continues, so a
 // boundary the camera sees only via a bounce does not lose half its samples to hidden connections
 // (unbiased: the choice depends only on the walk so far).
-// It does not continue through a dielectric (refraction would need the adjoint 1/eta^2 and the
-// optical length inside): boundary segments seen only through glass are sampled at depth 1 only.
+// Through a dielectric it reflects or refracts like any vertex. The walk samples f(toward, wo) where
+// the path needs f(wo, toward), and refraction is not reciprocal: f(wo, toward) = (eta_wo /
+// eta_toward)^2 f(toward, wo) (lib/bsdf.glsl), so a refraction multiplies the weight by that ratio.
+// Each segment counts the optical length of the medium it runs in: at a dielectric the side a
+// direction leaves to says which; past any other vertex the medium stays (as shade tracks it).
 // Returns the camera side's weight including f at x_a (0 on failure), with the pixel, the camera
 // side's optical length, c (x_a's depth) and the IOR of the medium the boundary segment runs in.
 const float kConnectProbability = 0.5;
@@ -166,9 +177,11 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
   uint maxSegments = frame.gateInfo.w > 1u ? frame.gateInfo.w - 1u : 0u;
   vec3 position = xa.position, normal = xa.normal, toward = w;  // toward: away from the camera side
   GpuMaterial m = materials[shapes[xa.shape].material];
+  // The boundary segment's medium: the glass's when it leaves a dielectric x_a inwards, else air.
+  ior = mediumToward(m, normal, toward, 1.0);
+  float medium = ior;  // of the walk's segments before the current vertex
   float weight = 1.0, comp = 0.0;
   for (uint c = 1u; c <= maxSegments; ++c) {
-    if (m.type == kMaterialDielectric) return 0.0;  // neither connects (delta BSDF) nor continues (above)
     Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimEdgeWalk + c, viewSeed());
     vec4 u = rngNext4(rng);
     bool last = c == maxSegments;
@@ -177,9 +190,11 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
     uint connectedPixel;
     float connection = cameraConnection(position, normal, connectedPixel, wc, r);
     if (connection != 0.0) connection *= bsdfEval(m, normal, wc, toward);
+    // The camera is in air: a connection through a dielectric leaves it outwards (one from inside is
+    // occluded by the glass it is in, unless the mesh is open).
+    if (connection != 0.0 && mediumToward(m, normal, wc, medium) != 1.0) connection = 0.0;
     float connectProbability = connection == 0.0 ? 0.0 : (last ? 1.0 : kConnectProbability);
     if (u.w < connectProbability) {
-      if (c == 1u && dot(normal, toward) * dot(normal, wc) < 0.0) ior = dot(normal, toward) < 0.0 ? m.ior : 1.0;
       addLength(len, comp, r);
       depth = c;
       pixel = connectedPixel;
@@ -189,10 +204,15 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
     BsdfSample bs;
     if (!bsdfSample(m, normal, toward, u.xyz, bs)) return 0.0;
     weight *= bs.weight / (1.0 - connectProbability);
+    if (bs.transmitted) {
+      float behind = mediumToward(m, normal, bs.wo, medium);
+      weight *= (behind / medium) * (behind / medium);
+      medium = behind;
+    }
     HitRecord hit;
     if (!traceClosest(position, bs.wo, frame.sceneInfo.x, kInfinity, hit)) return 0.0;
     SurfacePoint next = surfacePoint(floatBitsToUint(hit.tuvTriangle.w), hit.tuvTriangle.yz);
-    addLength(len, comp, distance(position, next.position));
+    addLength(len, comp, distance(position, next.position) * medium);
     if (len > frame.gateSupport.y) return 0.0;  // the path is already past the gate
     toward = -bs.wo;
     position = next.position;

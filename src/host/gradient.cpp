@@ -102,11 +102,7 @@ GradientPlan planGradient(const Scene& scene, const RenderSetup& setup, const Pa
     plan.reasons.push_back("no edge pass: no selected parameter moves geometry that can occlude or a point light");
   } else {
     plan.edges = true;
-    plan.reasons.push_back("edge pass: parameters move geometry or a point light; boundary segments from the camera (primary silhouettes) and behind surfaces at any depth (shadows, occlusion), the light side at any depth");
-    bool glass = std::any_of(scene.materials.begin(), scene.materials.end(),
-                             [](const Material& m) { return m.type == MaterialType::Dielectric; });
-    if (glass)
-      plan.reasons.push_back("edge pass: its camera side does not continue through dielectrics, so boundary segments the camera sees only through refraction are not sampled (their derivative misses that part)");
+    plan.reasons.push_back("edge pass: parameters move geometry or a point light; boundary segments from the camera (primary silhouettes) and behind surfaces at any depth (shadows, occlusion, also seen through glass), the light side at any depth");
   }
   return plan;
 }

@@ -75,6 +75,20 @@ LayerEstimate sumPixels(const LayerEstimate& e) {
   return s;
 }
 
+LayerEstimate sumTiles(const LayerEstimate& e, size_t width, size_t tile) {
+  const size_t height = e.mean.size() / width, tilesAcross = width / tile;
+  LayerEstimate s;
+  s.dof = e.dof;
+  s.mean.assign(tilesAcross * (height / tile), 0.0);
+  s.variance.assign(s.mean.size(), 0.0);
+  for (size_t i = 0; i < e.mean.size(); ++i) {
+    size_t t = (i / width / tile) * tilesAcross + (i % width) / tile;
+    s.mean[t] += e.mean[i];
+    s.variance[t] += e.variance[i];
+  }
+  return s;
+}
+
 SeedDifference seedFiniteDifference(const Scene& scene, const std::string& parameter, double eps, uint32_t seeds,
                                     const RenderOptions& options) {
   SeedDifference out;

@@ -44,6 +44,9 @@ LayerEstimate layerOf(const ImageSet& mean, const ImageSet& variance, uint32_t l
 LayerEstimate sumLayers(const std::vector<LayerEstimate>& layers);
 // Sum over pixels, with the variance of that sum (pixels are independent).
 LayerEstimate sumPixels(const LayerEstimate& e);
+// Sums over tiles of tile x tile pixels of an image `width` pixels wide (row-major, sides
+// multiples of the tile): for estimates too sparse to see every pixel.
+LayerEstimate sumTiles(const LayerEstimate& e, size_t width, size_t tile);
 
 // Central finite difference (I(θ + eps) - I(θ - eps)) / (2 eps) of every gate layer over `seeds`
 // seeds: seed k renders both sides with render.seed = scene.render.seed + 1000 (k + 1) (common
