@@ -18,14 +18,13 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kExperiment = fs::path(VKTG_SOURCE_DIR) / "experiments" / "corridor";
-// Of the documented 40 (full), 40 (3 bounces) and 64 (finite differences: the same time as the full
-// run on lavapipe, 1.35 s against 2.03 s an iteration).
-constexpr uint32_t kIterationsFull = 30, kIterationsThreeBounces = 15, kIterationsFiniteDifferences = 45;
-// Documented outcome at full length (docs/experiments.md, seed 5), from 0.5 m: full 0.0049,
-// 3 bounces 0.72 (moving the wall closer to make up the lost energy), finite differences 0.10
-// (through the truth at iteration 16, then drifting). At reduced length: full below a tenth of the
-// start (measured 0.02), 3 bounces beyond the start (measured 0.79), finite differences at least
-// 2x the full run's error (measured 0.08 against 0.02).
+// The documented lengths: 64 iterations of finite differences took the full run's wall time when
+// the experiment was built; now they cost about the same per iteration (0.13 s against 0.12 s).
+constexpr uint32_t kIterationsFull = 40, kIterationsThreeBounces = 40, kIterationsFiniteDifferences = 64;
+// Documented outcome (docs/experiments.md, seed 5), from 0.5 m: full 0.0049, 3 bounces 0.72
+// (moving the wall closer to make up the lost energy), finite differences 0.10 (through the truth at
+// iteration 16, then drifting). Bounds: full below a tenth of the start (other seeds end at 0.027
+// and 0.028), 3 bounces beyond the start, finite differences at least 2x the full run's error.
 constexpr double kFullBound = 0.1, kFiniteDifferenceRatio = 2.0;
 
 TEST(ExperimentCorridor, FullInterreflectionsAndAdjointGradientsFindTheHiddenEnd) {
