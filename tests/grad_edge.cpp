@@ -90,6 +90,24 @@ Scene occluderScene(uint32_t spp) {
   return scene;
 }
 
+// The parameter square_x of `sceneText` moves a black square sideways: its own paths end on it, so
+// the interior term is exactly 0 and the derivative is the edge term alone. Checks the total against
+// finite differences of step `eps` summed over tiles of tile x tile pixels (1: every pixel) and over
+// the image, the interior term against 0, and that more than 10 pixels fail without the edge term.
+void expectBlackSquareEdgeTerm(const std::string& sceneText, uint32_t sppEdge, double eps, size_t tile = 1) {
+  Scene scene = parseSceneJson(sceneText, "black_square.json", ".");
+  GradientResult g = edgeGradient(scene, "square_x", sppEdge);
+  LayerEstimate fd = finiteDifference(scene, "square_x", eps);
+  const size_t tiles = (kResolution / tile) * (kResolution / tile);
+  double level = sidakLevel(kAlpha, tiles + 1 + kResolution * kResolution);
+  Checker check{level};
+  check.expect(tile == 1 ? "d/dx total vs fd" : "d/dx total vs fd, tiles", sumTiles(term(g.total, 0), kResolution, tile),
+               sumTiles(fd, kResolution, tile));
+  check.expect("d/dx image sum vs fd", sumPixels(term(g.total, 0)), sumPixels(fd));
+  check.expect("d/dx interior = 0", term(g.interior, 0), exactLayer(std::vector<double>(fd.mean.size(), 0.0)));
+  EXPECT_GT(rejectedWithoutEdges(g, fd, level), 10u);
+}
+
 TEST(GradEdge, PrimarySilhouetteOfABlackSquare) {
   std::string text = R"({"version": 1,
     "camera": {"type": "perspective", "position": [0, 0, 3], "look_at": [0, 0, 0], "fov_y": 30, "resolution": [16, 16]},
@@ -163,15 +181,7 @@ TEST(GradEdge, ShadowSeenOnlyViaABounce) {
       {"name": "light", "type": "rectangle", "material": "black", "emission": 20, "transform": {"translate": [0, 2, 0], "rotate": [90, 0, 0], "scale": [0.2, 0.2, 1]}}],
     "parameters": [{"name": "square_x", "type": "translate", "shape": "square", "axis": [1, 0, 0]}],
     "render": {"spp": 256, "max_depth": 3, "seed": 3}})";
-  Scene scene = parseSceneJson(text, "bounce.json", ".");
-  GradientResult g = edgeGradient(scene, "square_x", 8192);
-  LayerEstimate fd = finiteDifference(scene, "square_x", 0.05);
-  double level = sidakLevel(kAlpha, 2 * kResolution * kResolution + 1);
-  Checker check{level};
-  check.expect("d/dx total vs fd", term(g.total, 0), fd);
-  check.expect("d/dx image sum vs fd", sumPixels(term(g.total, 0)), sumPixels(fd));
-  check.expect("d/dx interior = 0", term(g.interior, 0), exactLayer(std::vector<double>(fd.mean.size(), 0.0)));
-  EXPECT_GT(rejectedWithoutEdges(g, fd, level), 10u);
+  expectBlackSquareEdgeTerm(text, 8192, 0.05);
 }
 
 TEST(GradEdge, ShadowSeenOnlyThroughGlass) {
@@ -195,15 +205,7 @@ TEST(GradEdge, ShadowSeenOnlyThroughGlass) {
       {"name": "light", "type": "rectangle", "material": "black", "emission": 20, "transform": {"translate": [0, 1.2, 0], "rotate": [90, 0, 0], "scale": [0.15, 0.15, 1]}}],
     "parameters": [{"name": "square_x", "type": "translate", "shape": "square", "axis": [1, 0, 0]}],
     "render": {"spp": 1024, "max_depth": 5, "seed": 3}})";
-  Scene scene = parseSceneJson(text, "glass.json", ".");
-  GradientResult g = edgeGradient(scene, "square_x", 16384);
-  LayerEstimate fd = finiteDifference(scene, "square_x", 0.01);
-  double level = sidakLevel(kAlpha, 2 * kResolution * kResolution + 1);
-  Checker check{level};
-  check.expect("d/dx total vs fd", term(g.total, 0), fd);
-  check.expect("d/dx image sum vs fd", sumPixels(term(g.total, 0)), sumPixels(fd));
-  check.expect("d/dx interior = 0", term(g.interior, 0), exactLayer(std::vector<double>(fd.mean.size(), 0.0)));
-  EXPECT_GT(rejectedWithoutEdges(g, fd, level), 10u);
+  expectBlackSquareEdgeTerm(text, 16384, 0.01);
 }
 
 TEST(GradEdge, ShadowCastInsideGlass) {
@@ -229,17 +231,7 @@ TEST(GradEdge, ShadowCastInsideGlass) {
       {"name": "square", "type": "rectangle", "material": "black", "transform": {"translate": [0.1, 0.8, 0], "rotate": [90, 0, 0], "scale": [0.25, 0.25, 1]}}],
     "parameters": [{"name": "square_x", "type": "translate", "shape": "square", "axis": [1, 0, 0]}],
     "render": {"spp": 1024, "max_depth": 4, "seed": 3}})";
-  Scene scene = parseSceneJson(text, "inside_glass.json", ".");
-  GradientResult g = edgeGradient(scene, "square_x", 65536);
-  LayerEstimate fd = finiteDifference(scene, "square_x", 0.02);
-  constexpr size_t kTile = 4, kTiles = (kResolution / kTile) * (kResolution / kTile);
-  double level = sidakLevel(kAlpha, kTiles + 1 + kResolution * kResolution);
-  Checker check{level};
-  check.expect("d/dx total vs fd, 4x4 tiles", sumTiles(term(g.total, 0), kResolution, kTile),
-               sumTiles(fd, kResolution, kTile));
-  check.expect("d/dx image sum vs fd", sumPixels(term(g.total, 0)), sumPixels(fd));
-  check.expect("d/dx interior = 0", term(g.interior, 0), exactLayer(std::vector<double>(fd.mean.size(), 0.0)));
-  EXPECT_GT(rejectedWithoutEdges(g, fd, level), 10u);
+  expectBlackSquareEdgeTerm(text, 65536, 0.02, 4);
 }
 
 }  // namespace
