@@ -4,7 +4,8 @@
 //    a blurred reference keeps a rare large sample's noise visible, no light leaves the rule;
 //  - real pilots on lavapipe where the answer is known by a wide margin: the confocal plane under a
 //    near-delta gate (standard NEE is hopeless there) and the Cornell room under a wide gate
-//    (ellipsoidal connections lose, docs/benchmarks.md) and a narrow one (standard loses).
+//    (ellipsoidal connections lose, docs/benchmarks.md) and a narrow one (standard loses). Their
+//    choices rest on the times measured, so CTest runs this file's tests alone (VKTG_TIMED_TESTS).
 #include <gtest/gtest.h>
 
 #include <cmath>
