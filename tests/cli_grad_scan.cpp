@@ -22,8 +22,6 @@ using nlohmann::json;
 const fs::path kScene = fs::path(VKTG_SOURCE_DIR) / "experiments" / "confocal_scan" / "scene.json";
 constexpr uint32_t kSeed = 11;
 
-void writeJson(const fs::path& path, const json& value) { std::ofstream(path) << value.dump(1); }
-
 // A 2 x 2 grid of confocal points on the relay wall (y = 1), the laser at each.
 json gridScan() {
   return {{"version", 1},
@@ -39,7 +37,7 @@ std::vector<std::string> onePointArgs(const std::vector<std::string>& command, u
   const json point = {-0.2 + 0.4 * (k % 2), 1.0, -0.2 + 0.4 * (k / 2)};
   scene["camera"]["position"] = point;
   scene["lights"][0]["position"] = point;
-  writeJson(dir / "point.json", scene);
+  writeJsonFile(dir / "point.json", scene);
   std::vector<std::string> args = command;
   args.insert(args.begin() + 1, (dir / "point.json").string());
   args[std::find(args.begin(), args.end(), "--seed") - args.begin() + 1] =
@@ -52,7 +50,7 @@ std::vector<std::string> onePointArgs(const std::vector<std::string>& command, u
 void expectScanPixelsAreTheOnePointImages(const std::vector<std::string>& command, const std::string& file,
                                           bool expectNonZero) {
   TempDir dir;
-  writeJson(dir / "scan.json", gridScan());
+  writeJsonFile(dir / "scan.json", gridScan());
   std::vector<std::string> scanArgs = command;
   scanArgs.insert(scanArgs.begin() + 1, kScene.string());
   for (const std::string& a : {std::string("--scan"), (dir / "scan.json").string(), std::string("--out"), (dir / "scan.exr").string()})
@@ -105,7 +103,7 @@ TEST(CliGradScan, FiniteDifferencesOfAViewAreTheOnePointOnes) {
 
 TEST(CliGradScan, AScanFileThatIsNoScanNamesItsFieldAndWritesNothing) {
   TempDir dir;
-  writeJson(dir / "scan.json", {{"version", 1}, {"grid", {{"corner", {0, 1, 0}}}}});
+  writeJsonFile(dir / "scan.json", {{"version", 1}, {"grid", {{"corner", {0, 1, 0}}}}});
   const CliResult r = runVktg({"grad", kScene.string(), "--param", "h27", "--scan", (dir / "scan.json").string(), "--out",
                                (dir / "g.exr").string()},
                               {.cwd = dir.path()});

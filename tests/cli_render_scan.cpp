@@ -23,8 +23,6 @@ using nlohmann::json;
 const fs::path kScene = fs::path(VKTG_SOURCE_DIR) / "experiments" / "confocal_scan" / "scene.json";
 constexpr uint32_t kSeed = 7;
 
-void writeJson(const fs::path& path, const json& value) { std::ofstream(path) << value.dump(1); }
-
 json readJson(const fs::path& path) {
   std::ifstream stream(path);
   return json::parse(stream);
@@ -37,7 +35,7 @@ TEST(CliRenderScan, GridPixelsAreTheOneViewRendersOfTheirPoints) {
                      {"grid",
                       {{"corner", {-0.3, 1.0, -0.2}}, {"across", {0.6, 0.0, 0.0}}, {"down", {0.0, 0.0, 0.4}},
                        {"resolution", {3, 2}}, {"lights", {"laser"}}}}};
-  writeJson(dir / "scan.json", scan);
+  writeJsonFile(dir / "scan.json", scan);
   const std::vector<std::string> common = {"--spp", "16", "--seed", std::to_string(kSeed), "--nee", "standard"};
   std::vector<std::string> args = {"render", kScene.string(), "--scan", (dir / "scan.json").string(), "--npy",
                                    "--out", (dir / "scan.exr").string()};
@@ -60,7 +58,7 @@ TEST(CliRenderScan, GridPixelsAreTheOneViewRendersOfTheirPoints) {
     moved["camera"]["position"] = point;
     moved["lights"][0]["position"] = point;
     // Heights and materials as the original's (its folder holds nothing else it needs).
-    writeJson(dir / "point.json", moved);
+    writeJsonFile(dir / "point.json", moved);
     std::vector<std::string> one = {"render", (dir / "point.json").string(), "--out", (dir / "point.exr").string()};
     one.insert(one.end(), common.begin(), common.end());
     one[std::find(one.begin(), one.end(), "--seed") - one.begin() + 1] =
@@ -79,7 +77,7 @@ TEST(CliRenderScan, GridPixelsAreTheOneViewRendersOfTheirPoints) {
 
 TEST(CliRenderScan, PinholeViewsStackTheirImages) {
   TempDir dir;
-  writeJson(dir / "views.json", {{"version", 1},
+  writeJsonFile(dir / "views.json", {{"version", 1},
                                  {"views", {{{"position", {0.0, 1.0, 3.4}}}, {{"position", {0.5, 1.0, 3.4}}}}}});
   runVktgOk({"render", "--scan", (dir / "views.json").string(), "--spp", "2", "--resolution", "8x6", "--out",
          (dir / "views.exr").string()},
@@ -94,12 +92,12 @@ TEST(CliRenderScan, ARenderedScanIsAnOptimisationTarget) {
   // heights start flat and are fitted to it for two iterations (the plumbing, not convergence).
   TempDir dir;
   fs::copy_file(kScene, dir / "scene.json");
-  writeJson(dir / "scan.json", {{"version", 1},
+  writeJsonFile(dir / "scan.json", {{"version", 1},
                                 {"grid",
                                  {{"corner", {-0.3, 1.0, -0.3}}, {"across", {0.6, 0.0, 0.0}}, {"down", {0.0, 0.0, 0.6}},
                                   {"resolution", {3, 3}}, {"lights", {"laser"}}}}});
   runVktgOk({"render", "scene.json", "--scan", "scan.json", "--spp", "1024", "--out", "cube.exr"}, dir);
-  writeJson(dir / "experiment.json", {{"version", 1},
+  writeJsonFile(dir / "experiment.json", {{"version", 1},
                                       {"scene", "scene.json"},
                                       {"parameters", {{{"name", "h*"}, {"initial", 0}}}},
                                       {"targets", {{{"name", "wall"}, {"scan", "scan.json"}, {"image", "cube.exr"}}}},
@@ -125,7 +123,7 @@ TEST(CliRenderScan, ARenderedScanIsAnOptimisationTarget) {
 
 TEST(CliRenderScan, BadScanFilesNameTheFieldAndWriteNothing) {
   TempDir dir;
-  writeJson(dir / "bad.json", {{"version", 1}, {"grid", {{"corner", {0, 1, 0}}, {"resolution", {2, 2}}}}});
+  writeJsonFile(dir / "bad.json", {{"version", 1}, {"grid", {{"corner", {0, 1, 0}}, {"resolution", {2, 2}}}}});
   const CliResult r = runVktg({"render", kScene.string(), "--scan", (dir / "bad.json").string(), "--out",
                                (dir / "out.exr").string()},
                               {.cwd = dir.path()});

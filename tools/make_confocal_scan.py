@@ -90,8 +90,8 @@ def experiment(heights, gate, iterations, description):
         # height a full step along its own noisy gradient and roughened the 10^4-height surface (0.023 m
         # of 0.035 after 150 iterations at learning rate 0.01 x 0.98^i; uniform at 0.03: 0.0066).
         # A warm-up of 10 steps: Adam's first steps are full-sized whatever the gradient, and the first
-        # gradients mostly noise; without it the 10^4-height scan ended 0.0065-0.0148 m from the truth
-        # over three seeds, with it 0.0041-0.0071 (docs/experiments.md).
+        # gradients mostly noise; without it the 10^4-height scan ended 0.0066-0.0148 m from the truth
+        # over three seeds, with it 0.0042-0.0071 (docs/experiments.md).
         "optimizer": {"type": "adam", "learning_rate": 0.03, "uniform": True,
                       "schedule": {"type": "exponential", "decay": 0.98, "warmup": 10}},
         "regularizers": [{"type": "laplacian", "shape": "hidden", "weight": 0.05}],

@@ -417,9 +417,8 @@ FiniteDifferenceResult finiteDifference(Renderer& renderer, const Scene& scene, 
   findParameter(scene, parameter, "--param");
   auto renderAt = [&](double step) {
     const Scene perturbed = perturbScene(scene, parameter, step);
-    if (views.empty()) return renderer.render(perturbed, options);
     DeviceScene device(renderer.context(), perturbed);
-    return renderer.render(device, RenderSetup::of(perturbed), views, options);
+    return renderOf(renderer, device, RenderSetup::of(perturbed), views, options);
   };
   RenderResult plus = renderAt(eps);
   RenderResult minus = renderAt(-eps);

@@ -16,15 +16,21 @@ constexpr double kMinOpenMargin = 1e-9;
 
 double openMargin(double end) { return std::max(kMinOpenMargin, kOpenMargin * std::abs(end)); }
 
-// The factor the schedule applies to every learning rate after `steps` steps.
-double scheduleFactor(const ScheduleSpec& schedule, uint64_t steps) {
-  const double warmup = steps < schedule.warmup ? double(steps + 1) / double(schedule.warmup) : 1.0;
+// The schedule's decay after `steps` steps.
+double decayFactor(const ScheduleSpec& schedule, uint64_t steps) {
   switch (schedule.type) {
-    case ScheduleType::Constant: return warmup;
-    case ScheduleType::Exponential: return warmup * std::pow(schedule.decay, double(steps));
-    case ScheduleType::Step: return warmup * std::pow(schedule.decay, double(steps / std::max<uint32_t>(1, schedule.every)));
+    case ScheduleType::Constant: return 1.0;
+    case ScheduleType::Exponential: return std::pow(schedule.decay, double(steps));
+    case ScheduleType::Step: return std::pow(schedule.decay, double(steps / std::max<uint32_t>(1, schedule.every)));
   }
   return 1.0;
+}
+
+// The factor the schedule applies to every learning rate after `steps` steps: its decay, ramped up
+// over the warm-up.
+double scheduleFactor(const ScheduleSpec& schedule, uint64_t steps) {
+  const double warmup = steps < schedule.warmup ? double(steps + 1) / double(schedule.warmup) : 1.0;
+  return warmup * decayFactor(schedule, steps);
 }
 
 void requireSize(const char* what, size_t size, size_t expected) {

@@ -207,6 +207,8 @@ void writeFileBytes(const fs::path& path, const std::string& bytes) {
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
+void writeJsonFile(const fs::path& path, const nlohmann::json& value) { writeFileBytes(path, value.dump(1)); }
+
 CliResult runVktgOk(const std::vector<std::string>& args, const TempDir& dir) {
   CliResult r = runVktg(args, {.cwd = dir.path()});
   EXPECT_TRUE(r.exited && r.exitCode == 0) << r.describe();

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace vktg::test {
 
 struct CliResult {
@@ -69,5 +71,7 @@ std::map<std::string, std::string> directorySnapshot(const TempDir& dir);
 
 std::string readFileBytes(const std::filesystem::path& path);
 void writeFileBytes(const std::filesystem::path& path, const std::string& bytes);
+// Writes `value` as JSON: the scene, scan and experiment files a test sets up.
+void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& value);
 
 }  // namespace vktg::test
