@@ -6,6 +6,8 @@
 //   primary:   the segment from the camera (sensor) through y; behind a pinhole both sides of the
 //              silhouette are traced (the ray just past the edge and the ray onto its face), at
 //              a point sensor only the unoccluded side (its first hits are material points);
+//              behind a pinhole a crease the camera sees both faces of is traced on both sides
+//              too (creaseSample);
 //   to light:  the segment from a light sample x_b (area or point light) through y, traced on to
 //              x_a, which connects to the camera: a shadow boundary of direct light, complete here;
 //   secondary: a uniform direction w at y, traced both ways to x_a (-w) and x_b (+w); x_a
@@ -84,13 +86,50 @@ void startEdgePath(uint slot, vec3 from, vec3 before, uint fromTriangle, vec3 fr
   rayQueues[queued] = slot;
 }
 
+// A crease the pinhole sees both faces of (creasePlane): behind a pinhole the first hit stays on
+// its camera ray, so where the ray crosses from one face to the other the integrand jumps by the
+// difference of their radiance, and a moving crease moves that jump across the image like a
+// silhouette (THEORY.md 3.3, "Creases behind a pinhole"). Both sides are traced 8 ray-epsilons from
+// the crease: the side n_p points to gets the factor -v_y.n_p, the other +v_y.n_p, and neither
+// first hit has a normal velocity of its own (it slides along its ray). Point sensors need none of
+// this: their first hits are material points, in whose coordinates a crease does not move.
+void creaseSample(uint i, uint sampleIndex, uint edge, float t, vec3 y, float pY, float offset, vec3 c, float dA,
+                  vec3 w, vec3 np, float sinPhi) {
+  uint pixel;
+  float importance = cameraImportance(w, pixel);
+  if (importance == 0.0) return;
+  float eps = frame.sceneInfo.x;
+  // The line onto the crease itself meets its faces only at y: anything it hits before is in front.
+  if (traceAny(c, w, eps, dA - offset)) return;
+  atomicAdd(counters[kCounterEdgeConnected], 1u);
+  float weight = importance * sinPhi / (dA * dA * pY * kPrimaryProbability);
+  for (uint side = 0u; side < 2u; ++side) {
+    float towardNp = side == 0u ? 1.0 : -1.0;
+    vec3 wSide = normalize(y + towardNp * offset * np - c);
+    HitRecord h;
+    if (!traceClosest(c, wSide, eps, kInfinity, h)) continue;
+    EdgeRecord r = boundaryRecord(edge, t, np, 1.0, 1.0);
+    r.normalScale.w = -towardNp;
+    r.ends.yz = vec2(0.0);
+    edgeRecords[2u * i + side] = r;
+    startEdgePath(2u * i + side, c, c, 0xffffffffu, cameraForward(), 0.0, wSide, h, weight, 1.0, 0u, pixel,
+                  sampleIndex, 0u);
+  }
+}
+
 void primarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3 y, float pY, float offset) {
   vec3 c = cameraPosition();
   float dA = distance(y, c);
   vec3 w = (y - c) / dA;
   vec3 np;
   float sinPhi;
-  if (!silhouettePlane(e, w, np, sinPhi)) return;
+  if (!silhouettePlane(e, w, np, sinPhi)) {
+    if (kSpecCameraTypeValue == kCameraPerspective && creasePlane(e, w, np, sinPhi)) {
+      atomicAdd(counters[kCounterEdgeSilhouettes], 1u);  // a boundary of the image all the same
+      creaseSample(i, sampleIndex, edge, t, y, pY, offset, c, dA, w, np, sinPhi);
+    }
+    return;
+  }
   atomicAdd(counters[kCounterEdgeSilhouettes], 1u);
   uint pixel;
   float importance = cameraImportance(w, pixel);

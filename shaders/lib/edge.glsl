@@ -37,21 +37,40 @@ uint selectEdge(float u) {
   return lo;
 }
 
-// Whether a line through the edge along `dir` grazes it as a silhouette (both faces on one side
-// of the plane spanned by the edge and `dir`); then `np` is that plane's unit normal pointing away
-// from the faces and sinPhi = |edge x dir| / |edge|.
-bool silhouettePlane(GpuEdge e, vec3 dir, out vec3 np, out float sinPhi) {
+// The plane spanned by the edge and `dir`: its unit normal `np`, sinPhi = |edge x dir| / |edge|,
+// and on which side each face lies (s0, s1: the faces' inward directions along np; s1 = 0 for a
+// boundary edge). False when the line runs along the edge (no boundary crossing).
+bool edgePlane(GpuEdge e, vec3 dir, out vec3 np, out float sinPhi, out float s0, out float s1) {
   vec3 along = normalize(e.p1.xyz - e.p0.xyz);
   vec3 c = cross(along, dir);
   sinPhi = length(c);
   np = vec3(0.0);
-  if (!(sinPhi > 1e-6)) return false;  // the line runs along the edge: no boundary crossing
+  s0 = 0.0;
+  s1 = 0.0;
+  if (!(sinPhi > 1e-6)) return false;
   np = c / sinPhi;
-  float s0 = dot(e.inward0.xyz, np), s1 = dot(e.inward1.xyz, np);
+  s0 = dot(e.inward0.xyz, np);
+  s1 = dot(e.inward1.xyz, np);
+  return true;
+}
+
+// Whether a line through the edge along `dir` grazes it as a silhouette (both faces on one side
+// of the plane spanned by the edge and `dir`); then `np` is that plane's unit normal pointing away
+// from the faces.
+bool silhouettePlane(GpuEdge e, vec3 dir, out vec3 np, out float sinPhi) {
+  float s0, s1;
+  if (!edgePlane(e, dir, np, sinPhi, s0, s1)) return false;
   bool boundaryEdge = dot(e.inward1.xyz, e.inward1.xyz) == 0.0;
   if (s0 == 0.0 || (!boundaryEdge && !(s0 * s1 > 0.0))) return false;
   if (s0 > 0.0) np = -np;
   return true;
+}
+
+// Whether the line crosses a crease with a face on either side of that plane, so that both faces
+// can be seen along lines beside it (THEORY.md 3.3, "Creases behind a pinhole").
+bool creasePlane(GpuEdge e, vec3 dir, out vec3 np, out float sinPhi) {
+  float s0, s1;
+  return edgePlane(e, dir, np, sinPhi, s0, s1) && s0 * s1 < 0.0;
 }
 
 // The record of a slot whose factor is -v_n (v_n above) for the boundary segment x_a -> x_b that
