@@ -29,6 +29,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <string>
+#include <utility>
 
 #include "support/boundary_test.h"
 #include "vktg/scene.h"
@@ -77,6 +79,16 @@ void expectMatchesFd(const Scene& scene, const GradientResult& g, const std::str
   double level = sidakLevel(kAlpha, kResolution * kResolution);
   Checker{level}.expect(("d/d" + parameter + " total vs fd").c_str(), term(g.total, 0), fd);
   EXPECT_GT(rejectedWithoutEdges(g, fd, level), minRejected);
+}
+
+// Appends parameter `name` of `kind`, acting on `target` along `axis`.
+void addParameter(Scene& scene, const std::string& name, ParameterKind kind, const std::string& target, glm::vec3 axis) {
+  Parameter p;
+  p.name = name;
+  p.kind = kind;
+  p.target = target;
+  p.axis = axis;
+  scene.parameters.push_back(std::move(p));
 }
 
 // The derivative of the shadow jumps where the penumbra meets the umbra or the lit floor (a straight
@@ -153,12 +165,7 @@ TEST(GradEdge, MovingPointLightShadow) {
   Scene scene = occluderScene(256);
   scene.shapes.pop_back();  // the area light
   scene.pointLights.push_back({"lamp", {0.0f, 2.0f, 0.0f}, 4.0f});
-  Parameter move;
-  move.name = "lamp_x";
-  move.kind = ParameterKind::LightPosition;
-  move.target = "lamp";
-  move.axis = {1.0f, 0.0f, 0.0f};
-  scene.parameters.push_back(move);
+  addParameter(scene, "lamp_x", ParameterKind::LightPosition, "lamp", {1.0f, 0.0f, 0.0f});
   GradientResult g = edgeGradient(scene, "lamp_x", 2048);
   // The lamp's shadow rim covers fewer pixels (measured: 11 of 256 rejected without the edge
   // term, worst t 15).
@@ -255,12 +262,7 @@ TEST(GradEdge, CreasesOfALitBoxBehindAPinhole) {
   for (Shape& shape : scene.shapes)
     if (shape.name == "short_box")
       for (glm::vec3& p : shape.positions) p.y += 0.02f;
-  Parameter lift;
-  lift.name = "box_y";
-  lift.kind = ParameterKind::Translate;
-  lift.target = "short_box";
-  lift.axis = {0.0f, 1.0f, 0.0f};
-  scene.parameters.push_back(lift);
+  addParameter(scene, "box_y", ParameterKind::Translate, "short_box", {0.0f, 1.0f, 0.0f});
   GradientResult g = edgeGradient(scene, "box_y", 1024);
   LayerEstimate fd = finiteDifference(scene, "box_y", 0.01);
   constexpr uint32_t kTile = 4;
