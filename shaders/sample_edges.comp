@@ -7,7 +7,7 @@
 //              silhouette are traced (the ray just past the edge and the ray onto its face), at
 //              a point sensor only the unoccluded side (its first hits are material points);
 //              behind a pinhole a crease the camera sees both faces of is traced on both sides
-//              too (creaseSample);
+//              too;
 //   to light:  the segment from a light sample x_b (area or point light) through y, traced on to
 //              x_a, which connects to the camera: a shadow boundary of direct light, complete here;
 //   secondary: a uniform direction w at y, traced both ways to x_a (-w) and x_b (+w); x_a
@@ -86,62 +86,55 @@ void startEdgePath(uint slot, vec3 from, vec3 before, uint fromTriangle, vec3 fr
   rayQueues[queued] = slot;
 }
 
-// A crease the pinhole sees both faces of (creasePlane): behind a pinhole the first hit stays on
-// its camera ray, so where the ray crosses from one face to the other the integrand jumps by the
-// difference of their radiance, and a moving crease moves that jump across the image like a
-// silhouette (THEORY.md 3.3, "Creases behind a pinhole"). Both sides are traced 8 ray-epsilons from
-// the crease: the side n_p points to gets the factor -v_y.n_p, the other +v_y.n_p, and neither
-// first hit has a normal velocity of its own (it slides along its ray). Point sensors need none of
-// this: their first hits are material points, in whose coordinates a crease does not move.
-void creaseSample(uint i, uint sampleIndex, uint edge, float t, vec3 y, float pY, float offset, vec3 c, float dA,
-                  vec3 w, vec3 np, float sinPhi) {
-  uint pixel;
-  float importance = cameraImportance(w, pixel);
-  if (importance == 0.0) return;
-  float eps = frame.sceneInfo.x;
-  // The line onto the crease itself meets its faces only at y: anything it hits before is in front.
-  if (traceAny(c, w, eps, dA - offset)) return;
-  atomicAdd(counters[kCounterEdgeConnected], 1u);
-  float weight = importance * sinPhi / (dA * dA * pY * kPrimaryProbability);
-  for (uint side = 0u; side < 2u; ++side) {
-    float towardNp = side == 0u ? 1.0 : -1.0;
-    vec3 wSide = normalize(y + towardNp * offset * np - c);
-    HitRecord h;
-    if (!traceClosest(c, wSide, eps, kInfinity, h)) continue;
-    EdgeRecord r = boundaryRecord(edge, t, np, 1.0, 1.0);
-    r.normalScale.w = -towardNp;
-    r.ends.yz = vec2(0.0);
-    edgeRecords[2u * i + side] = r;
-    startEdgePath(2u * i + side, c, c, 0xffffffffu, cameraForward(), 0.0, wSide, h, weight, 1.0, 0u, pixel,
-                  sampleIndex, 0u);
-  }
+// One side of a primary boundary behind a pinhole, traced along `dir` into slot `slot`. Its first
+// hit stays on its camera ray, so it has no normal velocity of its own and the slot's factor is
+// `factor` v_y.n_p alone.
+void startRayFormSide(uint slot, uint edge, float t, vec3 np, float factor, vec3 c, vec3 dir, float weight, uint pixel,
+                      uint sampleIndex) {
+  HitRecord h;
+  if (!traceClosest(c, dir, frame.sceneInfo.x, kInfinity, h)) return;
+  EdgeRecord r = boundaryRecord(edge, t, np, 1.0, 1.0);
+  r.normalScale.w = factor;
+  r.ends.yz = vec2(0.0);
+  edgeRecords[slot] = r;
+  startEdgePath(slot, c, c, 0xffffffffu, cameraForward(), 0.0, dir, h, weight, 1.0, 0u, pixel, sampleIndex, 0u);
 }
 
 void primarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3 y, float pY, float offset) {
   vec3 c = cameraPosition();
   float dA = distance(y, c);
   vec3 w = (y - c) / dA;
+  bool pinhole = kSpecCameraTypeValue == kCameraPerspective;
   vec3 np;
   float sinPhi;
-  if (!silhouettePlane(e, w, np, sinPhi)) {
-    if (kSpecCameraTypeValue == kCameraPerspective && creasePlane(e, w, np, sinPhi)) {
-      atomicAdd(counters[kCounterEdgeSilhouettes], 1u);  // a boundary of the image all the same
-      creaseSample(i, sampleIndex, edge, t, y, pY, offset, c, dA, w, np, sinPhi);
-    }
-    return;
-  }
+  bool silhouette = silhouettePlane(e, w, np, sinPhi);
+  // Behind a pinhole the first hit stays on its camera ray, so where the ray crosses from one face
+  // of a crease to the other the integrand jumps by the difference of their radiance, and a moving
+  // crease moves that jump across the image like a silhouette (THEORY.md 3.3, "Creases behind a
+  // pinhole"). A point sensor's first hits are material points, in whose coordinates a crease does
+  // not move.
+  bool crease = !silhouette && pinhole && creasePlane(e, w, np, sinPhi);
+  if (!silhouette && !crease) return;
   atomicAdd(counters[kCounterEdgeSilhouettes], 1u);
   uint pixel;
   float importance = cameraImportance(w, pixel);
   if (importance == 0.0) return;
   float eps = frame.sceneInfo.x;
+  float weight = importance * sinPhi / (dA * dA * pY * kPrimaryProbability);
+  if (crease) {
+    // The line onto the crease meets its faces only at y: anything it hits before is in front.
+    if (traceAny(c, w, eps, dA - offset)) return;
+    atomicAdd(counters[kCounterEdgeConnected], 1u);
+    // Both sides see a face: the one n_p points to gets -v_y.n_p, the other +v_y.n_p.
+    startRayFormSide(2u * i, edge, t, np, -1.0, c, normalize(y + offset * np - c), weight, pixel, sampleIndex);
+    startRayFormSide(2u * i + 1u, edge, t, np, 1.0, c, normalize(y - offset * np - c), weight, pixel, sampleIndex);
+    return;
+  }
   vec3 wVisible = normalize(y + offset * np - c);
   HitRecord hb;
   bool hitB = traceClosest(c, wVisible, eps, kInfinity, hb);
   if (hitB && hb.tuvTriangle.x < dA - offset) return;  // something nearer hides the edge
   atomicAdd(counters[kCounterEdgeConnected], 1u);
-  float weight = importance * sinPhi / (dA * dA * pY * kPrimaryProbability);
-  bool pinhole = kSpecCameraTypeValue == kCameraPerspective;
   if (hitB) {
     uint tb = floatBitsToUint(hb.tuvTriangle.w);
     float dB = max(distance(surfacePoint(tb, hb.tuvTriangle.yz).position, y), 0.0);
@@ -155,15 +148,7 @@ void primarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3
   if (!pinhole) return;
   // The pixel's other side sees the edge's face: its radiance is what the silhouette uncovers
   // when it moves away from n_p.
-  vec3 wHidden = normalize(y - offset * np - c);
-  HitRecord ho;
-  if (!traceClosest(c, wHidden, eps, kInfinity, ho)) return;
-  EdgeRecord hidden = boundaryRecord(edge, t, np, 1.0, 1.0);
-  hidden.normalScale.w = 1.0;
-  hidden.ends.yz = vec2(0.0);
-  edgeRecords[2u * i + 1u] = hidden;
-  startEdgePath(2u * i + 1u, c, c, 0xffffffffu, cameraForward(), 0.0, wHidden, ho, weight, 1.0, 0u, pixel,
-                sampleIndex, 0u);
+  startRayFormSide(2u * i + 1u, edge, t, np, 1.0, c, normalize(y - offset * np - c), weight, pixel, sampleIndex);
 }
 
 // The camera's view of a surface point: importance times the geometry term of point -> camera
