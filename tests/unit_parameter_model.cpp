@@ -121,6 +121,35 @@ TEST(ParameterModel, VertexOpsFollowDeclarationOrder) {
 
 // The world axes an adjoint gradient accumulates per vertex (host/adjoint.cpp): a translation's
 // nonzero components, a displacement's direction, all three once a rotation is selected.
+// What a selection touches is known from construction; each answer follows its own kinds only.
+TEST(ParameterModel, WhatASelectionTouchesAndWhichVerticesDeform) {
+  const Scene scene = modelScene();
+  auto model = [&](const std::vector<std::string>& names) {
+    std::vector<uint32_t> selected;
+    for (const std::string& n : names) selected.push_back(findParameter(scene, n));
+    return ParameterModel(scene, selected);
+  };
+  const ParameterModel scalars = model({"glow", "power", "grey", "t0"});
+  EXPECT_TRUE(scalars.touchesEmission() && scalars.touchesIntensity() && scalars.touchesMaterials() && scalars.touchesGate());
+  EXPECT_FALSE(scalars.movesPointLights() || scalars.movesVertices());
+  EXPECT_TRUE(model({"eta"}).touchesMaterials());
+  EXPECT_FALSE(model({"eta"}).touchesEmission() || model({"eta"}).touchesGate());
+  EXPECT_TRUE(model({"laser_y"}).movesPointLights());
+  EXPECT_FALSE(model({"laser_y"}).touchesIntensity());
+  // lift displaces prism vertices 0 and 3 (the lamp's 4 vertices come first); slide moves the
+  // prism rigidly; h4 displaces the ground's centre vertex.
+  const ParameterModel moving = model({"slide", "lift", "h4"});
+  const std::vector<bool>& deforming = moving.deformingVertices();
+  const std::vector<bool>& movingVertex = moving.movingVertices();
+  const size_t prism = 4, ground = 4 + scene.shapes[1].positions.size();
+  ASSERT_EQ(deforming.size(), ground + 9);
+  for (size_t v = 0; v < deforming.size(); ++v) {
+    const bool displaced = v == prism || v == prism + 3 || v == ground + 4;
+    EXPECT_EQ(deforming[v], displaced) << "vertex " << v;
+    EXPECT_EQ(movingVertex[v], displaced || (v >= prism && v < ground)) << "vertex " << v;
+  }
+}
+
 TEST(ParameterModel, VertexMotionAxesAreTheComponentsParametersMoveAlong) {
   const Scene scene = modelScene();
   auto axes = [](const Scene& s, const std::vector<std::string>& names) {

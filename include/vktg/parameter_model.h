@@ -57,18 +57,23 @@ class ParameterModel {
   // The vertices of shape `shape` at θ, in double precision (the same motion as sceneAt).
   std::vector<glm::dvec3> shapePositions(std::span<const double> theta, uint32_t shape) const;
 
-  // What the selected parameters touch.
+  // What the selected parameters touch. Known from construction: a gradient asks several times,
+  // and a scan over 10^6 heights each time cost more than the gradient's device work.
+  bool selects(ParameterKind kind) const { return (m_kinds >> uint32_t(kind)) & 1u; }
   bool movesVertices() const { return !m_opList.empty(); }
   // The world axes along which some selected parameter moves a vertex: a translation's or a
   // displacement's nonzero axis components, all three once a rotation is selected.
-  glm::bvec3 vertexMotionAxes() const;
+  glm::bvec3 vertexMotionAxes() const { return m_motionAxes; }
   const std::vector<bool>& movingVertices() const { return m_movingVertex; }  // per vertex
-  std::vector<bool> deformingVertices() const;  // per vertex: moved by a displacement (not rigidly with its shape)
-  bool movesPointLights() const;
-  bool touchesMaterials() const;
-  bool touchesEmission() const;
-  bool touchesIntensity() const;
-  bool touchesGate() const;
+  // Per vertex: moved by a displacement (not rigidly with its shape).
+  const std::vector<bool>& deformingVertices() const { return m_deformingVertex; }
+  bool movesPointLights() const { return selects(ParameterKind::LightPosition); }
+  bool touchesMaterials() const {
+    return selects(ParameterKind::Albedo) || selects(ParameterKind::Roughness) || selects(ParameterKind::Ior);
+  }
+  bool touchesEmission() const { return selects(ParameterKind::Emission); }
+  bool touchesIntensity() const { return selects(ParameterKind::Intensity); }
+  bool touchesGate() const { return selects(ParameterKind::GateCenter); }
 
   VertexOpTables deviceTables() const;
 
@@ -82,6 +87,9 @@ class ParameterModel {
   std::vector<glm::uvec2> m_vertexOps;        // per vertex: (first, count) in m_opList
   std::vector<uint32_t> m_opList;             // θ indices, per vertex in declaration order
   std::vector<bool> m_movingVertex;
+  std::vector<bool> m_deformingVertex;
+  uint32_t m_kinds = 0;                       // bit k: a parameter of ParameterKind k is selected
+  glm::bvec3 m_motionAxes{false};
   std::vector<uint32_t> m_scalarParameters;  // θ indices of parameters that move no vertex, declaration order
 };
 

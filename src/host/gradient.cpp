@@ -34,16 +34,24 @@ void addStats(RenderStats& total, const RenderStats& s) {
   total.waveTexels = total.waveTexels || s.waveTexels;
 }
 
+void addEffects(ParameterEffects& e, ParameterKind kind) {
+  e.movesLength |= isGeometric(kind) || kind == ParameterKind::GateCenter;
+  e.movesGeometry |= movesVertices(kind);
+  e.movesPointLight |= kind == ParameterKind::LightPosition;
+}
+
 }  // namespace
 
 ParameterEffects parameterEffects(const Scene& scene, const std::vector<uint32_t>& parameters) {
   ParameterEffects e;
-  for (uint32_t index : parameters) {
-    ParameterKind kind = scene.parameters.at(index).kind;
-    e.movesLength |= isGeometric(kind) || kind == ParameterKind::GateCenter;
-    e.movesGeometry |= movesVertices(kind);
-    e.movesPointLight |= kind == ParameterKind::LightPosition;
-  }
+  for (uint32_t index : parameters) addEffects(e, scene.parameters.at(index).kind);
+  return e;
+}
+
+ParameterEffects parameterEffects(const ParameterModel& model) {
+  ParameterEffects e;
+  for (uint32_t kind = 0; kind <= uint32_t(ParameterKind::GateCenter); ++kind)
+    if (model.selects(ParameterKind(kind))) addEffects(e, ParameterKind(kind));
   return e;
 }
 
@@ -323,7 +331,7 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
   if (!model) throw Error("internal: a loss gradient needs a scene with a parameter model");
   VulkanContext& context = renderer.context();
   LossGradient result;
-  const ParameterEffects effects = parameterEffects(model->baseScene(), model->selected());
+  const ParameterEffects effects = parameterEffects(*model);
   std::vector<GradientPlan> plans;
   std::vector<bool> sharePaths;
   for (const AdjointView& view : views) {

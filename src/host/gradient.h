@@ -57,6 +57,8 @@ struct ParameterEffects {
   bool movesPointLight = false;  // some parameter moves a point light
 };
 ParameterEffects parameterEffects(const Scene& scene, const std::vector<uint32_t>& parameters);
+// The same for a loss gradient's parameters (O(1): the model knows which kinds it holds).
+ParameterEffects parameterEffects(const ParameterModel& model);
 
 // The terms a gradient of `scene` seen as `setup` says (camera, gate, max depth) needs.
 GradientPlan planGradient(const Scene& scene, const RenderSetup& setup, const ParameterEffects& effects,

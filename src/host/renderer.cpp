@@ -250,11 +250,12 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   const Buffer* edgeBuffer = nullptr;
   if (edges) {
     const size_t vertexCount = prepared.vertices.size();
-    std::vector<bool> moving = adjoint ? deviceScene.model()->movingVertices()
-                                       : movingVertices(options.derivativeLanes, vertexCount, false);
-    std::vector<bool> deforming = adjoint ? deviceScene.model()->deformingVertices()
-                                          : movingVertices(options.derivativeLanes, vertexCount, true);
-    edgeBuffer = &deviceScene.edges(moving, deforming);
+    if (adjoint) {
+      edgeBuffer = &deviceScene.edges(deviceScene.model()->movingVertices(), deviceScene.model()->deformingVertices());
+    } else {
+      edgeBuffer = &deviceScene.edges(movingVertices(options.derivativeLanes, vertexCount, false),
+                                      movingVertices(options.derivativeLanes, vertexCount, true));
+    }
   }
   const uint32_t edgeCount = edges ? deviceScene.edgeCount() : 0u;
 

@@ -77,15 +77,20 @@ ParameterModel::ParameterModel(const Scene& scene, std::vector<uint32_t> selecte
   for (uint32_t k : byDeclaration)
     if (!vktg::movesVertices(scene.parameters[m_selected[k]].kind)) m_scalarParameters.push_back(k);
   m_movingVertex.assign(vertexCount, false);
-  for (uint32_t v = 0; v < vertexCount; ++v) m_movingVertex[v] = m_vertexOps[v].y > 0;
-}
-
-std::vector<bool> ParameterModel::deformingVertices() const {
-  std::vector<bool> out(m_vertexOps.size(), false);
-  for (size_t v = 0; v < m_vertexOps.size(); ++v)
+  m_deformingVertex.assign(vertexCount, false);
+  for (uint32_t v = 0; v < vertexCount; ++v) {
+    m_movingVertex[v] = m_vertexOps[v].y > 0;
     for (uint32_t o = m_vertexOps[v].x; o < m_vertexOps[v].x + m_vertexOps[v].y; ++o)
-      if (parameter(m_opList[o]).kind == ParameterKind::Displace) out[v] = true;
-  return out;
+      if (parameter(m_opList[o]).kind == ParameterKind::Displace) m_deformingVertex[v] = true;
+  }
+  for (size_t k = 0; k < size(); ++k) {
+    const Parameter& p = parameter(k);
+    m_kinds |= 1u << uint32_t(p.kind);
+    if (p.kind == ParameterKind::Translate || p.kind == ParameterKind::Displace)
+      m_motionAxes = glm::bvec3(m_motionAxes.x || p.axis.x != 0.0f, m_motionAxes.y || p.axis.y != 0.0f,
+                                m_motionAxes.z || p.axis.z != 0.0f);
+  }
+  if (selects(ParameterKind::Rotate)) m_motionAxes = glm::bvec3(true);
 }
 
 std::vector<bool> ParameterModel::movingShapes() const {
@@ -93,49 +98,6 @@ std::vector<bool> ParameterModel::movingShapes() const {
   for (size_t s = 0; s < out.size(); ++s)
     for (uint32_t v = m_firstVertex[s]; v < m_firstVertex[s + 1] && !out[s]; ++v) out[s] = m_movingVertex[v];
   return out;
-}
-
-glm::bvec3 ParameterModel::vertexMotionAxes() const {
-  glm::bvec3 axes(false);
-  for (size_t k = 0; k < size(); ++k) {
-    const Parameter& p = parameter(k);
-    if (p.kind == ParameterKind::Rotate) return glm::bvec3(true);
-    if (p.kind == ParameterKind::Translate || p.kind == ParameterKind::Displace)
-      axes = glm::bvec3(axes.x || p.axis.x != 0.0f, axes.y || p.axis.y != 0.0f, axes.z || p.axis.z != 0.0f);
-  }
-  return axes;
-}
-
-bool ParameterModel::movesPointLights() const {
-  for (size_t k = 0; k < size(); ++k)
-    if (parameter(k).kind == ParameterKind::LightPosition) return true;
-  return false;
-}
-
-bool ParameterModel::touchesMaterials() const {
-  for (size_t k = 0; k < size(); ++k) {
-    ParameterKind kind = parameter(k).kind;
-    if (kind == ParameterKind::Albedo || kind == ParameterKind::Roughness || kind == ParameterKind::Ior) return true;
-  }
-  return false;
-}
-
-bool ParameterModel::touchesEmission() const {
-  for (size_t k = 0; k < size(); ++k)
-    if (parameter(k).kind == ParameterKind::Emission) return true;
-  return false;
-}
-
-bool ParameterModel::touchesIntensity() const {
-  for (size_t k = 0; k < size(); ++k)
-    if (parameter(k).kind == ParameterKind::Intensity) return true;
-  return false;
-}
-
-bool ParameterModel::touchesGate() const {
-  for (size_t k = 0; k < size(); ++k)
-    if (parameter(k).kind == ParameterKind::GateCenter) return true;
-  return false;
 }
 
 Scene ParameterModel::sceneAt(std::span<const double> theta) const {
@@ -215,6 +177,13 @@ std::vector<double> ParameterModel::chainRule(std::span<const double> theta, con
     for (uint32_t v = m_firstVertex[s]; v < m_firstVertex[s + 1]; ++v) {
       const glm::uvec2 ops = m_vertexOps[v];
       if (ops.y == 0 || g.vertices[v] == glm::dvec3(0.0)) continue;
+      const Parameter& first = parameter(m_opList[ops.x]);
+      if (ops.y == 1 && first.kind != ParameterKind::Rotate) {
+        // A lone translation or displacement (every height of a heightfield): its velocity is its
+        // axis wherever the vertex is, so the position need not be replayed.
+        out[m_opList[ops.x]] += glm::dot(g.vertices[v], glm::dvec3(first.axis));
+        continue;
+      }
       glm::dvec3 position(m_scene.shapes[s].positions[v - m_firstVertex[s]]);
       velocity.assign(ops.y, glm::dvec3(0.0));
       for (uint32_t i = 0; i < ops.y; ++i) {
