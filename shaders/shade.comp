@@ -10,6 +10,8 @@
 // continuing path for the next depth.
 // Reads: ray queue (parity push.args.z & 1), hits[], paths[], scene. Writes: paths[], pathAccum,
 // shadow queue, the other ray queue, statistics counters. Dispatch: indirect (ray queue size).
+// One path per invocation: its connections are queued once, at the end (lib/path.glsl).
+#define VKTG_DEFERRED_SHADOW_QUEUE 1
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
@@ -196,6 +198,7 @@ void shadeHit() {
 
 void main() {
   shadeHit();
+  flushShadowQueue();
 #ifdef VKTG_ADJOINT
   countScatterFaults();
 #endif
