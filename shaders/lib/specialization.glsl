@@ -20,6 +20,7 @@ layout(constant_id = 12) const uint kSpecSceneTexelsValue = 0u;  // 1: scene loa
 layout(constant_id = 13) const uint kSpecWaveTexelsValue = 0u;   // 1: path-state and hit loads through texels
 layout(constant_id = 14) const uint kSpecWideBvhValue = 0u;      // 1: traversal over the 4-wide BVH
 layout(constant_id = 15) const uint kSpecMultiViewValue = 0u;    // 1: several views per render (lib/view.glsl)
+layout(constant_id = 16) const uint kSpecFilledSlotsOnlyValue = 0u;  // 1: trace_shadow_rays skips empty slots
 
 bool sceneHasLightType(uint type) { return (kSpecLightMaskValue & (1u << type)) != 0u; }
 bool sceneHasMaterial(uint type) { return (kSpecMaterialMaskValue & (1u << type)) != 0u; }

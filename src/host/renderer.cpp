@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 
+#include "host/forced_choice.h"
 #include "host/frame_uniforms.h"
 #include "host/interrupt.h"
 #include "host/memory_arena.h"
@@ -387,6 +388,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   spec[gpu::kSpecWaveTexels] = waveTexels ? 1u : 0u;
   spec[gpu::kSpecWideBvh] = gpuScene.wideBvh() ? 1u : 0u;
   spec[gpu::kSpecMultiView] = views ? 1u : 0u;
+  // VKTG_SHADOW_SLOTS=filled|all overrides the device's choice (tests): the same bits either way.
+  spec[gpu::kSpecFilledSlotsOnly] = forcedChoice("VKTG_SHADOW_SLOTS", "filled", "all").value_or(context.isCpuDevice()) ? 1u : 0u;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";

@@ -1,5 +1,6 @@
 // Sets an environment variable for its lifetime (the variables through which tests force a
-// device's choices: VKTG_SCENE_ACCESS, VKTG_BVH_WIDTH, VKTG_DEVICE_MEMORY, VKTG_MAX_CHUNK_BYTES).
+// device's choices: VKTG_SCENE_ACCESS, VKTG_BVH_WIDTH, VKTG_DEVICE_MEMORY, VKTG_MAX_CHUNK_BYTES,
+// VKTG_SHADOW_SLOTS).
 #pragma once
 #include <cstdlib>
 

@@ -179,7 +179,8 @@ VKTG_CONST(uint, kSpecSceneTexels, 12);  // 1: triangle and BVH node loads throu
 VKTG_CONST(uint, kSpecWaveTexels, 13);   // 1: path-state and hit loads through the texel bindings
 VKTG_CONST(uint, kSpecWideBvh, 14);      // 1: closest- and any-hit traversal over the 4-wide BVH
 VKTG_CONST(uint, kSpecMultiView, 15);    // 1: several views in one render (FrameUniforms.viewInfo, lib/view.glsl)
-VKTG_CONST(uint, kSpecCount, 16);
+VKTG_CONST(uint, kSpecFilledSlotsOnly, 16);  // 1: trace_shadow_rays loops over a path's filled slots only (CPU devices)
+VKTG_CONST(uint, kSpecCount, 17);
 
 // How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
 VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
