@@ -83,8 +83,10 @@ ParameterModel::ParameterModel(const Scene& scene, std::vector<uint32_t> selecte
     for (uint32_t o = m_vertexOps[v].x; o < m_vertexOps[v].x + m_vertexOps[v].y; ++o)
       if (parameter(m_opList[o]).kind == ParameterKind::Displace) m_deformingVertex[v] = true;
   }
+  m_motion.resize(size());
   for (size_t k = 0; k < size(); ++k) {
     const Parameter& p = parameter(k);
+    m_motion[k] = glm::vec4(p.axis, p.kind == ParameterKind::Rotate ? 1.0f : 0.0f);
     m_kinds |= 1u << uint32_t(p.kind);
     if (p.kind == ParameterKind::Translate || p.kind == ParameterKind::Displace)
       m_motionAxes = glm::bvec3(m_motionAxes.x || p.axis.x != 0.0f, m_motionAxes.y || p.axis.y != 0.0f,
@@ -151,12 +153,12 @@ VertexOpTables ParameterModel::deviceTables() const {
 std::vector<double> ParameterModel::chainRule(std::span<const double> theta, const SceneGradient& g) const {
   if (theta.size() != size()) throw Error("internal: θ has the wrong size");
   std::vector<double> out(size(), 0.0);
-  for (size_t k = 0; k < size(); ++k) {
+  for (uint32_t k : m_scalarParameters) {
     const Parameter& p = parameter(k);
     switch (p.kind) {
       case ParameterKind::Translate:
       case ParameterKind::Rotate:
-      case ParameterKind::Displace: break;  // below, per vertex
+      case ParameterKind::Displace: break;  // not scalar: below, per vertex
       case ParameterKind::LightPosition:
         out[k] = glm::dot(g.lightPosition.at(indexOf(m_scene.pointLights, p.target)), glm::dvec3(p.axis));
         break;
@@ -177,11 +179,11 @@ std::vector<double> ParameterModel::chainRule(std::span<const double> theta, con
     for (uint32_t v = m_firstVertex[s]; v < m_firstVertex[s + 1]; ++v) {
       const glm::uvec2 ops = m_vertexOps[v];
       if (ops.y == 0 || g.vertices[v] == glm::dvec3(0.0)) continue;
-      const Parameter& first = parameter(m_opList[ops.x]);
-      if (ops.y == 1 && first.kind != ParameterKind::Rotate) {
+      const glm::vec4 first = m_motion[m_opList[ops.x]];
+      if (ops.y == 1 && first.w == 0.0f) {
         // A lone translation or displacement (every height of a heightfield): its velocity is its
         // axis wherever the vertex is, so the position need not be replayed.
-        out[m_opList[ops.x]] += glm::dot(g.vertices[v], glm::dvec3(first.axis));
+        out[m_opList[ops.x]] += glm::dot(g.vertices[v], glm::dvec3(glm::vec3(first)));
         continue;
       }
       glm::dvec3 position(m_scene.shapes[s].positions[v - m_firstVertex[s]]);
