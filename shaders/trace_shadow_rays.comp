@@ -201,8 +201,8 @@ void traceConnections() {
   // In slot order: the path's accumulator sees its contributions in the same order on every run.
   // A CPU device masks lanes rather than branching, so a loop over all slots would run a
   // connection's code, traversals included, for every empty slot: it visits the filled ones only.
-  // On a GPU the fixed loop over every slot is faster (the default room 10% on an H100): its
-  // invocations stay in step, each slot's records read side by side.
+  // On a GPU the fixed loop over every slot measured faster (the default room's render 10% on an
+  // H100, docs/benchmarks.md); both visit the same slots in the same order.
   if (kSpecFilledSlotsOnlyValue != 0u) {
     for (uint left = mask; left != 0u; left &= left - 1u) traceConnection(shadowSlot(path, uint(findLSB(left))));
   } else {

@@ -119,8 +119,6 @@ TEST(ParameterModel, VertexOpsFollowDeclarationOrder) {
   EXPECT_EQ(std::bit_cast<uint32_t>(t.parameterOps[1].axisKind.w), uint32_t(ParameterKind::Rotate));
 }
 
-// The world axes an adjoint gradient accumulates per vertex (host/adjoint.cpp): a translation's
-// nonzero components, a displacement's direction, all three once a rotation is selected.
 // What a selection touches is known from construction; each answer follows its own kinds only.
 TEST(ParameterModel, WhatASelectionTouchesAndWhichVerticesDeform) {
   const Scene scene = modelScene();
@@ -150,6 +148,8 @@ TEST(ParameterModel, WhatASelectionTouchesAndWhichVerticesDeform) {
   }
 }
 
+// The world axes an adjoint gradient accumulates per vertex (host/adjoint.cpp): a translation's
+// nonzero components, a displacement's direction, all three once a rotation is selected.
 TEST(ParameterModel, VertexMotionAxesAreTheComponentsParametersMoveAlong) {
   const Scene scene = modelScene();
   auto axes = [](const Scene& s, const std::vector<std::string>& names) {
