@@ -1,6 +1,7 @@
 // `vktg bench optimize` at toy sizes: a row per heightfield with every time measured, and with
 // --profile the device time of every pass of the render and of each gradient variant, named by
-// term (what docs/benchmarks.md's breakdown of a loss gradient is read from). Speed is the
+// term (what docs/benchmarks.md's breakdown of a loss gradient is read from), and the term pilot's
+// counts with all terms and an iteration at them. Speed is the
 // benchmark's output, never asserted here.
 #include <gtest/gtest.h>
 
@@ -33,8 +34,10 @@ TEST(CliBenchOptimize, EveryRowTimedAndEveryPassProfiled) {
     std::vector<double> cells;
     std::istringstream in(row);
     for (std::string cell; std::getline(in, cell, ',');) cells.push_back(std::stod(cell));
-    ASSERT_EQ(cells.size(), 15u) << row;
-    for (size_t c = 6; c <= 12; ++c) EXPECT_TRUE(std::isfinite(cells[c]) && cells[c] > 0) << row << ": column " << c;
+    ASSERT_EQ(cells.size(), 20u) << row;
+    for (size_t c = 6; c <= 17; ++c) EXPECT_TRUE(std::isfinite(cells[c]) && cells[c] > 0) << row << ": column " << c;
+    // The term pilot's counts: at least one sample, at most kTermPilotMaxFactor times the render's 2.
+    for (size_t c : {13, 14}) EXPECT_TRUE(cells[c] >= 1 && cells[c] <= 16) << row << ": column " << c;
   }
   const std::string log = r.out + r.err;
   for (const char* pass : {"render: ", "interior/shade_adj", "edges/sample_edges", "boundary/shade_adj",

@@ -24,6 +24,7 @@
 #include "host/optimize.h"
 #include "opt/run_directory.h"
 #include "opt/run_files.h"
+#include "opt/term_allocation.h"
 #include "support/cli_runner.h"
 #include "support/gpu_context.h"
 
@@ -169,6 +170,60 @@ TEST(OptimizeResume, RunInterruptedBeforeItsFirstIterationResumes) {
   EXPECT_FALSE(fs::exists(dir / "parts" / "targets" / "above.exr")) << "a target cut short must not be kept";
   resume(dir / "parts", 2);
   EXPECT_EQ(rowsWithoutTime(dir / "parts" / "log.csv"), rowsWithoutTime(dir / "whole" / "log.csv"));
+}
+
+// "spp_edge" and "spp_boundary": "auto". The term pilot runs once, at the first iteration, and its
+// choice goes to run.json; a run interrupted after it and resumed uses that choice without a second
+// pilot, and its log and θ are bit for bit those of a run given the chosen samples as numbers from
+// the start (the pilot's random numbers and accumulators are its own).
+TEST(OptimizeTermPilot, ChoosesTermSamplesOnceAndTheRunIsThatOfItsChoice) {
+  constexpr uint32_t kIterations = 4;
+  TempDir dir;
+  nlohmann::json experiment = nlohmann::json::parse(test::readFileBytes(kData / "converge_heightfield.json"));
+  experiment["scene"] = (kData / "terrain.json").string();
+  experiment["render"] = {{"spp", 16}, {"spp_interior", 16}, {"spp_edge", "auto"}, {"spp_boundary", "auto"}};
+  std::ofstream(dir / "pilot.json") << experiment.dump();
+
+  std::vector<std::string> reported;
+  try {
+    run(dir / "pilot.json", dir / "parts", kIterations, [&](const std::string& line) {
+      reported.push_back(line);
+      if (line.find("iteration 1/") != std::string::npos) requestInterrupt(2);
+    });
+    ADD_FAILURE() << "the run was not interrupted";
+  } catch (const Interrupted&) {
+  }
+  clearInterrupt();
+  auto pilotLines = [](const std::vector<std::string>& lines) {
+    return std::count_if(lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("term pilot: " + std::to_string(kTermPilotRounds) + " gradients", 0) == 0; });
+  };
+  EXPECT_EQ(pilotLines(reported), 1);
+  const nlohmann::json info = nlohmann::json::parse(test::readFileBytes(dir / "parts" / "run.json"));
+  ASSERT_TRUE(info.contains("term_pilot")) << info.dump();
+  const uint32_t edge = info["term_pilot"].at("spp_edge"), boundary = info["term_pilot"].at("spp_boundary");
+  std::printf("  the pilot chose %u edge and %u boundary samples per pixel\n", edge, boundary);
+  for (uint32_t spp : {edge, boundary}) {
+    EXPECT_GE(spp, 1u);
+    EXPECT_LE(spp, kTermPilotMaxFactor * 16u);
+  }
+
+  reported.clear();
+  OptimizeOptions o;
+  o.runDirectory = dir / "parts";
+  o.resume = true;
+  o.iterations = kIterations;
+  o.progress = [&](const std::string& line) { reported.push_back(line); };
+  optimize(test::testContext(), o);
+  EXPECT_EQ(pilotLines(reported), 0) << "a resumed run reads the pilot's choice";
+
+  experiment["render"]["spp_edge"] = edge;
+  experiment["render"]["spp_boundary"] = boundary;
+  std::ofstream(dir / "chosen.json") << experiment.dump();
+  run(dir / "chosen.json", dir / "whole", kIterations);
+  EXPECT_FALSE(nlohmann::json::parse(test::readFileBytes(dir / "whole" / "run.json")).contains("term_pilot"));
+  EXPECT_EQ(rowsWithoutTime(dir / "parts" / "log.csv"), rowsWithoutTime(dir / "whole" / "log.csv"));
+  expectSameBits(readCheckpoint(dir / "parts" / "checkpoint.bin").theta, readCheckpoint(dir / "whole" / "checkpoint.bin").theta,
+                 "θ");
 }
 
 TEST(OptimizeCli, RunWritesItsFilesAndTheOptimisedSceneRenders) {

@@ -223,6 +223,8 @@ const BadCase kCases[] = {
     {"unknown render field", [](json& j) { j["render"]["samples"] = 4; }, "render.samples", "unknown field"},
     {"zero spp", [](json& j) { j["render"]["spp"] = 0; }, "render.spp", "out of range"},
     {"zero edge spp", [](json& j) { j["render"]["spp_edge"] = 0; }, "render.spp_edge", "out of range"},
+    {"edge spp word", [](json& j) { j["render"]["spp_edge"] = "pilot"; }, "render.spp_edge", "unknown value"},
+    {"boundary spp of wrong type", [](json& j) { j["render"]["spp_boundary"] = true; }, "render.spp_boundary", "wrong type"},
     {"terms word", [](json& j) { j["render"]["terms"] = "all"; }, "render.terms", "unknown value"},
     {"no terms", [](json& j) { j["render"]["terms"] = json::array(); }, "render.terms", "empty list"},
     {"unknown term", [](json& j) { j["render"]["terms"] = {"edges"}; }, "render.terms[0]", "unknown value"},
@@ -423,6 +425,8 @@ TEST(Experiment, DefaultsOfAMinimalFile) {
   EXPECT_TRUE(x.regularizers.empty());
   EXPECT_FALSE(x.preconditioner);
   EXPECT_EQ(x.budget.sppPrimal, 16u);
+  EXPECT_EQ(x.budget.sppEdge, 16u);
+  EXPECT_FALSE(x.budget.sppEdgeAuto || x.budget.sppBoundaryAuto);
   EXPECT_TRUE(x.budget.interior && x.budget.edge && x.budget.pathLength);
   EXPECT_EQ(x.budget.antithetic, "auto");
   EXPECT_EQ(x.budget.nee, NeeMode::Auto);
@@ -432,6 +436,20 @@ TEST(Experiment, DefaultsOfAMinimalFile) {
   EXPECT_EQ(x.checkpointEvery, 10u);
   EXPECT_EQ(x.imagesEvery, 10u);
   EXPECT_EQ(x.seed, 0u);
+}
+
+TEST(Experiment, TermSamplesMayBeLeftToThePilot) {
+  json j = baseExperiment();
+  j["render"]["spp_edge"] = "auto";
+  Experiment x = parseExperimentJson(j.dump(), kFile, kData);
+  EXPECT_TRUE(x.budget.sppEdgeAuto);
+  EXPECT_FALSE(x.budget.sppBoundaryAuto);
+  j["render"]["spp_boundary"] = "auto";
+  j["render"]["spp_edge"] = 3;
+  x = parseExperimentJson(j.dump(), kFile, kData);
+  EXPECT_FALSE(x.budget.sppEdgeAuto);
+  EXPECT_EQ(x.budget.sppEdge, 3u);
+  EXPECT_TRUE(x.budget.sppBoundaryAuto);
 }
 
 TEST(Experiment, PatternsSelectInSceneOrderAndEntriesKeepTheirOrder) {

@@ -11,6 +11,7 @@
 #include "host/device_scene.h"
 #include "host/gradient.h"
 #include "host/renderer.h"
+#include "host/term_pilot.h"
 #include "opt/plot.h"
 #include "scene/primitives.h"
 #include "vktg/image_io.h"
@@ -63,12 +64,25 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// An adjoint image like a loss's: zero-mean noise of the image's size.
-ImageSet randomAdjoint(uint32_t width, uint32_t height) {
-  ImageSet adjoint{width, height, {{"", std::vector<float>(size_t(width) * height)}}};
-  std::mt19937 rng(7);
-  std::normal_distribution<float> normal(0.0f, 1e-3f);
-  for (float& a : adjoint.layers[0].pixels) a = normal(rng);
+// The adjoint image of an L2 loss, 2 (I(θ) - T), against a target T rendered with the heights moved
+// by up to 3 cm in a smooth pattern: the gradient the terms add up to is a loss's, so the term
+// pilot weighs their variances as an optimisation would. Both images at 4x the render's samples;
+// the scene is left at θ.
+ImageSet lossAdjoint(Renderer& renderer, DeviceScene& device, const RenderSetup& setup, const RenderOptions& options,
+                     const std::vector<double>& theta) {
+  RenderSetup fine = setup;
+  fine.settings.spp *= 4;
+  fine.settings.seed = 11;
+  ImageSet adjoint = renderer.render(device, fine, options).mean;
+  std::vector<double> moved(theta.size());
+  for (size_t k = 0; k < moved.size(); ++k) moved[k] = theta[k] + 0.03 * std::sin(0.37 * double(k));
+  device.update(moved, true);
+  fine.settings.seed = 12;
+  const ImageSet target = renderer.render(device, fine, options).mean;
+  device.update(theta, true);
+  for (size_t l = 0; l < adjoint.layers.size(); ++l)
+    for (size_t i = 0; i < adjoint.layers[l].pixels.size(); ++i)
+      adjoint.layers[l].pixels[i] = 2.0f * (adjoint.layers[l].pixels[i] - target.layers[l].pixels[i]);
   return adjoint;
 }
 
@@ -100,7 +114,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     RenderSetup setup = RenderSetup::of(scene);
     RenderOptions renderOptions;
     renderOptions.memoryBudget = options.memoryBudget;
-    const ImageSet adjoint = randomAdjoint(setup.camera.width, setup.camera.height);
+    const ImageSet adjoint = lossAdjoint(renderer, device, setup, renderOptions, theta);
     const std::vector<AdjointView> views = {{setup, {}, &adjoint}};
     renderOptions.profile = options.profile;
     struct Variant {
@@ -112,7 +126,8 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
                                 {"edges", &row.edgeSeconds, false, true, false},
                                 {"path-length boundary", &row.boundarySeconds, false, false, true},
                                 {"all terms", &row.allSeconds, true, true, true},  // every term the options allow
-                                {"all terms apart", &row.allApartSeconds, true, true, true, false}};
+                                {"all terms apart", &row.allApartSeconds, true, true, true, false},
+                                {"all terms, pilot's samples", &row.pilotAllSeconds, true, true, true}};
     auto sayProfile = [&](const std::string& what, const std::map<std::string, double>& passes) {
       if (!options.profile) return;
       double total = 0;
@@ -123,6 +138,25 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
       options.say(text.str());
     };
     AdjointState state;
+    // The term pilot at the starting heights, as `vktg optimize` runs it at its first iteration.
+    {
+      GradientOptions g;
+      g.render = renderOptions;
+      g.render.profile = false;
+      g.pathLength = options.pathLength;
+      AdjointState pilotState;
+      const TermAllocation allocation =
+          runTermPilot(renderer, device, views, g, pilotState, [](uint32_t round, size_t) { return 1000 + round; });
+      row.pilotSppEdge = allocation.sppEdge;
+      row.pilotSppBoundary = allocation.sppBoundary;
+      row.pilotVarianceRatio = allocation.varianceRatio;
+      for (const std::string& line : describeAllocation(allocation)) options.say("  " + line);
+    }
+    auto withPilot = [&](GradientOptions& g, const Variant& v) {
+      if (v.seconds != &row.pilotAllSeconds) return;
+      g.sppEdge = row.pilotSppEdge;
+      g.sppBoundary = row.pilotSppBoundary;
+    };
     std::mt19937 rng(1);
     std::uniform_real_distribution<double> step(-1e-3, 1e-3);
     // Warm-up: pipelines, films and accumulators are made once, as in an optimisation.
@@ -133,6 +167,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
       g.render = renderOptions;
       g.interior = v.interior, g.edges = v.edges, g.pathLength = v.pathLength && options.pathLength;
       g.sharePaths = v.sharePaths;
+      withPilot(g, v);
       lossGradient(renderer, device, views, g, state);
     }
     std::vector<double> update, checked, render;
@@ -156,6 +191,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
         g.interior = variants[v].interior, g.edges = variants[v].edges;
         g.pathLength = variants[v].pathLength && options.pathLength;
         g.sharePaths = variants[v].sharePaths;
+        withPilot(g, variants[v]);
         start = std::chrono::steady_clock::now();
         const LossGradient gradient = lossGradient(renderer, device, views, g, state);
         terms[v].push_back(secondsSince(start));
@@ -176,6 +212,12 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
                   row.edgeSeconds / row.renderSeconds, row.boundarySeconds / row.renderSeconds,
                   row.allSeconds / row.renderSeconds, row.allApartSeconds / row.renderSeconds, row.updateSeconds,
                   row.checkSeconds, row.iterationSeconds() / row.renderSeconds);
+    options.say(line);
+    std::snprintf(line, sizeof line,
+                  "  with the term pilot's samples (edges %u, path-length boundary %u per pixel; predicted variance %.2fx): "
+                  "all terms %.2fx, iteration %.2fx the render",
+                  row.pilotSppEdge, row.pilotSppBoundary, row.pilotVarianceRatio, row.pilotAllSeconds / row.renderSeconds,
+                  row.iterationSeconds(true) / row.renderSeconds);
     options.say(line);
     // The adjoint figures are kept before the forward-mode contrast, which builds the scene again for
     // every run (tens of seconds at 10^6 heights), so a run stopped there keeps them.
@@ -206,11 +248,13 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
 void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOptimizeOptions& options, const std::string& command) {
   std::ostringstream csv;
   csv << "size,parameters,triangles,build_s,update_s,check_s,render_s,interior_s,edge_s,boundary_s,all_s,all_apart_s,iteration_s,"
-         "dense_lanes,dense_s\n";
+         "pilot_spp_edge,pilot_spp_boundary,pilot_variance_ratio,pilot_all_s,pilot_iteration_s,dense_lanes,dense_s\n";
   for (const BenchOptimizeRow& r : report.rows)
     csv << r.size << "," << r.parameters << "," << r.triangles << "," << r.buildSeconds << "," << r.updateSeconds << "," << r.checkSeconds << ","
         << r.renderSeconds << "," << r.interiorSeconds << "," << r.edgeSeconds << "," << r.boundarySeconds << ","
-        << r.allSeconds << "," << r.allApartSeconds << "," << r.iterationSeconds() << "," << r.denseLanes << "," << r.denseSeconds << "\n";
+        << r.allSeconds << "," << r.allApartSeconds << "," << r.iterationSeconds() << "," << r.pilotSppEdge << ","
+        << r.pilotSppBoundary << "," << r.pilotVarianceRatio << "," << r.pilotAllSeconds << "," << r.iterationSeconds(true)
+        << "," << r.denseLanes << "," << r.denseSeconds << "\n";
   std::filesystem::create_directories(options.outDir);
   writeFileAtomic(options.outDir / "bench.csv", csv.str());
 
@@ -219,10 +263,13 @@ void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOpti
      << " runs. Times in seconds; ratios to the primal render of the same image and samples. An iteration is the update,\n"
      << "an eighth of the SAH check, the render and the gradient of every term run (loss and step are host work).\n"
      << "All terms run: the interior and per-pixel path-length-boundary terms share one trace of the paths; \"apart\":\n"
-     << "each traces its own.\n\n"
+     << "each traces its own. Pilot: the term pilot's samples per pixel for the edge and path-length-boundary terms\n"
+     << "(the interior term's fixed at the render's) and the variance of the gradient it predicts for them, relative\n"
+     << "to every term at the render's samples; then all terms and an iteration at those samples.\n\n"
      << "| heightfield | parameters | triangles | render | interior | edges | path-length boundary | all terms run "
-        "| all, apart | update | SAH check | iteration | forward lanes (heights) |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "| all, apart | update | SAH check | iteration | pilot spp (edge, boundary), variance | all terms, pilot "
+        "| iteration, pilot | forward lanes (heights) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto ratio = [](double seconds, double render) {
     if (std::isnan(seconds)) return std::string("skipped");
     char text[32];
@@ -231,29 +278,34 @@ void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOpti
   };
   char cell[512];
   for (const BenchOptimizeRow& r : report.rows) {
-    std::snprintf(cell, sizeof cell, "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %s | %.4f | %.4f | %s | %s (%u) |\n", r.size,
-                  r.size, (unsigned long long)r.parameters, (unsigned long long)r.triangles, r.renderSeconds,
+    std::snprintf(cell, sizeof cell,
+                  "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %s | %.4f | %.4f | %s | %u, %u, %.2fx | %s | **%s** | %s (%u) |\n",
+                  r.size, r.size, (unsigned long long)r.parameters, (unsigned long long)r.triangles, r.renderSeconds,
                   ratio(r.interiorSeconds, r.renderSeconds).c_str(), ratio(r.edgeSeconds, r.renderSeconds).c_str(),
                   ratio(r.boundarySeconds, r.renderSeconds).c_str(), ratio(r.allSeconds, r.renderSeconds).c_str(),
-                  ratio(r.allApartSeconds, r.renderSeconds).c_str(), r.updateSeconds, r.checkSeconds, ratio(r.iterationSeconds(), r.renderSeconds).c_str(),
-                  ratio(r.denseSeconds, r.renderSeconds).c_str(), r.denseLanes);
+                  ratio(r.allApartSeconds, r.renderSeconds).c_str(), r.updateSeconds, r.checkSeconds,
+                  ratio(r.iterationSeconds(), r.renderSeconds).c_str(), r.pilotSppEdge, r.pilotSppBoundary,
+                  r.pilotVarianceRatio, ratio(r.pilotAllSeconds, r.renderSeconds).c_str(),
+                  ratio(r.iterationSeconds(true), r.renderSeconds).c_str(), ratio(r.denseSeconds, r.renderSeconds).c_str(),
+                  r.denseLanes);
     md << cell;
   }
   writeFileAtomic(options.outDir / "table.md", md.str());
 
   LinePlot plot{"Cost relative to a render (" + report.device + ")", "log10 parameters", "seconds / render", true, {}};
-  PlotSeries iteration{"iteration"}, all{"gradient, all terms run"}, interior{"interior"}, edges{"edges"},
-      boundary{"path-length boundary"}, dense{"forward lanes"};
+  PlotSeries iteration{"iteration"}, pilotIteration{"iteration, term pilot's samples"}, all{"gradient, all terms run"},
+      interior{"interior"}, edges{"edges"}, boundary{"path-length boundary"}, dense{"forward lanes"};
   for (const BenchOptimizeRow& r : report.rows) {
     const double x = std::log10(double(r.parameters));
-    for (auto [series, seconds] : {std::pair{&iteration, r.iterationSeconds()}, {&all, r.allSeconds},
+    for (auto [series, seconds] : {std::pair{&iteration, r.iterationSeconds()}, {&pilotIteration, r.iterationSeconds(true)},
+                                   {&all, r.allSeconds},
                                    {&interior, r.interiorSeconds}, {&edges, r.edgeSeconds},
                                    {&boundary, r.boundarySeconds}, {&dense, r.denseSeconds}}) {
       series->x.push_back(x);
       series->y.push_back(seconds / r.renderSeconds);
     }
   }
-  plot.series = {iteration, all, interior, edges, boundary, dense};
+  plot.series = {iteration, pilotIteration, all, interior, edges, boundary, dense};
   writeLinePlot(options.outDir / "plot.png", plot);
 }
 

@@ -31,12 +31,18 @@ struct BenchOptimizeRow {
   double renderSeconds = 0;       // the primal render
   double interiorSeconds = 0, edgeSeconds = 0, boundarySeconds = 0, allSeconds = 0;  // adjoint gradients (NaN: skipped)
   double allApartSeconds = 0;  // all terms, the interior and path-length-boundary terms tracing their own paths
+  // The term pilot (host/term_pilot.h, `"spp_edge": "auto"` in an experiment): the samples it
+  // gives the edge and path-length-boundary terms, all terms at those samples, and the variance of
+  // that gradient it predicts relative to all terms at the render's samples.
+  uint32_t pilotSppEdge = 0, pilotSppBoundary = 0;
+  double pilotAllSeconds = 0, pilotVarianceRatio = 0;
   uint32_t denseLanes = 0;        // parameters of the forward-mode contrast
   double denseSeconds = 0;        // their derivative images (all terms)
   // An iteration of `vktg optimize` on the device: update + render + the gradient of every term run
   // (the loss and the optimiser step are host work linear in pixels and parameters, not timed).
-  double iterationSeconds() const {
-    return updateSeconds + checkSeconds / double(kBvhQualityCheckInterval) + renderSeconds + allSeconds;
+  double iterationSeconds(bool pilot = false) const {
+    return updateSeconds + checkSeconds / double(kBvhQualityCheckInterval) + renderSeconds +
+           (pilot ? pilotAllSeconds : allSeconds);
   }
 };
 

@@ -14,6 +14,7 @@
 #include "host/interrupt.h"
 #include "host/memory_preflight.h"
 #include "host/renderer.h"
+#include "host/term_pilot.h"
 #include "opt/experiment.h"
 #include "opt/loss.h"
 #include "opt/optimizer.h"
@@ -31,8 +32,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // Random numbers of iteration `iteration`, target `target` and use `use` (0: the render the loss
-// comes from, 1: the gradient's renders; independent, as THEORY.md §7 requires): a hash of
-// (seed, iteration, target, use).
+// comes from, 1: the gradient's renders; independent, as THEORY.md §7 requires; 2 + round: the
+// term pilot's rounds): a hash of (seed, iteration, target, use).
 uint32_t seedFor(uint32_t seed, uint64_t iteration, size_t target, uint32_t use) {
   return derivedSeed((uint64_t(seed) << 32) ^ (iteration * 0x9E3779B97F4A7C15ull) ^ (uint64_t(target) << 8) ^ use);
 }
@@ -281,7 +282,14 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
   // A run stopped before its first row may have no log yet; later ones must have theirs.
   const bool continueLog = options.resume && (start > 0 || fs::exists(run / "log.csv"));
   RunLog log(run / "log.csv", logColumns(e), continueLog, start);
-  const GradientOptions gradient = gradientOptions(e, info.memoryBudget);
+  GradientOptions gradient = gradientOptions(e, info.memoryBudget);
+  const bool termPilot = (e.budget.sppEdgeAuto || e.budget.sppBoundaryAuto) && !e.budget.finiteDifferences;
+  // The term pilot's choice (run.json keeps it): applied where the experiment asked for "auto".
+  auto applyPilot = [&] {
+    if (e.budget.sppEdgeAuto && info.pilotSppEdge) gradient.sppEdge = info.pilotSppEdge;
+    if (e.budget.sppBoundaryAuto && info.pilotSppBoundary) gradient.sppBoundary = info.pilotSppBoundary;
+  };
+  if (termPilot && info.pilotDone) applyPilot();
   RenderOptions primalOptions;
   primalOptions.nee = e.budget.nee;
   primalOptions.memoryBudget = info.memoryBudget;
@@ -324,6 +332,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
     for (uint64_t i = start; i < e.stop.iterations; ++i) {
       throwIfInterrupted();
       const auto iterationStart = std::chrono::steady_clock::now();
+      double pilotSeconds = 0;
       // The BVH check goes by iteration, so a resumed run checks where the original did.
       scene.update(theta, model.movesVertices() && i % kBvhQualityCheckInterval == 0);
       const double shift = gateShift(e, theta);
@@ -390,6 +399,27 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
                                  " renders at spp_interior), both sides with the same random numbers");
         g.stats.nonFinite = uint64_t(std::count_if(g.theta.begin(), g.theta.end(), [](double v) { return !std::isfinite(v); }));
       } else {
+        if (termPilot && !info.pilotDone) {
+          // At the first iteration's θ and adjoint images, with random numbers of its own (uses 2 +
+          // round) and its own accumulators, so that the optimisation's gradients are those of a run
+          // given the chosen samples from the start (a resumed run reads them from run.json).
+          if (options.progress) options.progress("term pilot: " + std::to_string(kTermPilotRounds) + " gradients of each term");
+          const auto pilotStart = std::chrono::steady_clock::now();
+          AdjointState pilotState;
+          const TermAllocation allocation = runTermPilot(renderer, scene, views, gradient, pilotState,
+                                                         [&](uint32_t round, size_t t) { return seedFor(e.seed, i, t, 2 + round); });
+          info.pilotSppEdge = allocation.sppEdge;
+          info.pilotSppBoundary = allocation.sppBoundary;
+          info.pilotDone = true;
+          writeRunInfo(run, info);
+          applyPilot();
+          // The iteration's time (log, ETA) is its own: the pilot runs once.
+          pilotSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pilotStart).count();
+          if (options.progress) {
+            for (const std::string& line : describeAllocation(allocation)) options.progress(line);
+            options.progress("term pilot: " + formatSeconds(pilotSeconds));
+          }
+        }
         g = lossGradient(renderer, scene, views, gradient, adjoint);
       }
       if (options.explain && !explained && options.progress) {
@@ -412,7 +442,8 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       for (double v : d) norm += v * v;
       norm = std::sqrt(norm);
       const std::optional<double> error = parameterError(e.parameters, theta);
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - iterationStart).count();
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - iterationStart).count() - pilotSeconds;
       std::vector<double> row = {double(i), loss};
       for (const TargetEntry& entry : entries) {
         double entryLoss = 0;

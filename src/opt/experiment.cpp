@@ -491,8 +491,19 @@ class ExperimentParser {
     BudgetSpec& b = m_x.budget;
     b.sppPrimal = o.uinteger("spp", b.sppPrimal, 1, kMaxSpp);
     b.sppInterior = o.uinteger("spp_interior", b.sppInterior, 1, kMaxSpp);
-    b.sppEdge = o.uinteger("spp_edge", b.sppEdge, 1, kMaxSpp);
-    b.sppBoundary = o.uinteger("spp_boundary", b.sppBoundary, 1, kMaxSpp);
+    // A count, or "auto": the term pilot's choice.
+    auto termSpp = [&](const char* key, uint32_t& spp, bool& pilot) {
+      if (o.has(key) && o.field(key).json().is_string()) {
+        o.field(key).oneOf({"auto"});
+        pilot = true;
+        return;
+      }
+      if (o.has(key) && !o.field(key).json().is_number())
+        o.field(key).fail("wrong type: expected a sample count or \"auto\"");
+      spp = o.uinteger(key, spp, 1, kMaxSpp);
+    };
+    termSpp("spp_edge", b.sppEdge, b.sppEdgeAuto);
+    termSpp("spp_boundary", b.sppBoundary, b.sppBoundaryAuto);
     if (o.has("terms")) parseTerms(o.field("terms"));
     if (o.has("antithetic")) b.antithetic = o.field("antithetic").oneOf({"auto", "on", "off"});
     if (o.has("nee")) b.nee = readNeeMode(o.field("nee"));

@@ -100,6 +100,8 @@ struct BudgetSpec {
   uint32_t sppInterior = 16;
   uint32_t sppEdge = 16;
   uint32_t sppBoundary = 16;
+  // "auto": the term's samples come from a pilot at the first iteration (host/term_pilot.h).
+  bool sppEdgeAuto = false, sppBoundaryAuto = false;
   bool interior = true, edge = true, pathLength = true;  // the planner still drops terms that cannot contribute
   std::string antithetic = "auto";  // auto | on | off
   NeeMode nee = NeeMode::Auto;

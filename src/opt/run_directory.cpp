@@ -84,6 +84,7 @@ void writeRunInfo(const fs::path& directory, const RunInfo& info) {
   nlohmann::json j;
   j["experiment"] = fs::absolute(info.experiment).lexically_normal().string();
   j["memory_budget"] = info.memoryBudget;
+  if (info.pilotDone) j["term_pilot"] = {{"spp_edge", info.pilotSppEdge}, {"spp_boundary", info.pilotSppBoundary}};
   writeFileAtomic(directory / "run.json", j.dump(2) + "\n");
 }
 
@@ -94,6 +95,11 @@ RunInfo readRunInfo(const fs::path& directory) {
     nlohmann::json j = nlohmann::json::parse(readText(path));
     info.experiment = j.at("experiment").get<std::string>();
     info.memoryBudget = j.at("memory_budget").get<uint64_t>();
+    if (j.contains("term_pilot")) {
+      info.pilotSppEdge = j.at("term_pilot").at("spp_edge").get<uint32_t>();
+      info.pilotSppBoundary = j.at("term_pilot").at("spp_boundary").get<uint32_t>();
+      info.pilotDone = true;
+    }
   } catch (const nlohmann::json::exception& e) {
     fail(path.string(), "", std::string("malformed run information: ") + e.what());
   }

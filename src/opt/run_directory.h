@@ -17,6 +17,11 @@ namespace vktg {
 struct RunInfo {
   std::filesystem::path experiment;
   uint64_t memoryBudget = 0;
+  // Samples of the edge and path-length-boundary terms that the term pilot chose ("spp_edge" or
+  // "spp_boundary": "auto"; 0 where it has not run or the term keeps the experiment's): measured
+  // once, so that a resumed run uses the original's.
+  uint32_t pilotSppEdge = 0, pilotSppBoundary = 0;
+  bool pilotDone = false;
 };
 
 // A fresh run: creates `directory`. Fails without touching anything when it exists (unless
