@@ -195,7 +195,7 @@ TEST(OptimizeTermPilot, ChoosesTermSamplesOnceAndTheRunIsThatOfItsChoice) {
   }
   clearInterrupt();
   auto pilotLines = [](const std::vector<std::string>& lines) {
-    return std::count_if(lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("term pilot: " + std::to_string(kTermPilotRounds) + " gradients", 0) == 0; });
+    return std::count_if(lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("term pilot: " + std::to_string(kTermPilotRounds + 1) + " gradients", 0) == 0; });
   };
   EXPECT_EQ(pilotLines(reported), 1);
   const nlohmann::json info = nlohmann::json::parse(test::readFileBytes(dir / "parts" / "run.json"));

@@ -1,7 +1,8 @@
 // The term pilot's allocation (opt/term_allocation.h) from synthetic pilot runs whose variances and
-// times are known: samples ∝ sqrt(variance / seconds) against the interior term, the clamps, the
-// path-length boundary set equal to the interior where it would share its paths, each parameter
-// weighted by its gradient's second moment, and the fallbacks that keep the experiment's samples.
+// times are known: samples ∝ sqrt(variance / seconds per sample) against the interior term, the
+// fixed part of a term's time left out of that, the clamps, the path-length boundary set equal to
+// the interior where it would share its paths, each parameter weighted by its gradient's second
+// moment, and the fallbacks that keep the experiment's samples.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,14 +13,20 @@
 namespace vktg {
 namespace {
 
-// Four rounds whose values for parameter k are mean[k] ± spread[k] (two of each sign): mean mean[k],
-// unbiased variance spread[k]^2 * 4 / 3.
-TermPilotRuns runs(const char* term, const std::vector<double>& mean, const std::vector<double>& spread, double seconds) {
-  TermPilotRuns r{term, {}, seconds};
-  for (int round = 0; round < 4; ++round) {
-    std::vector<double> g(mean.size());
-    for (size_t k = 0; k < g.size(); ++k) g[k] = mean[k] + ((round % 2) ? spread[k] : -spread[k]);
-    r.gradients.push_back(g);
+// Four rounds at termPilotSpp samples; a round's values for parameter k are mean[k] ±
+// spread[k] sqrt(spp0 / spp) (the two rounds of each count on either side), so that the variance per
+// sample per pixel is 2 spread[k]^2 spp0 whatever the count; seconds = fixed + perSpp × spp.
+TermPilotRuns runs(const char* term, const std::vector<double>& mean, const std::vector<double>& spread, double fixed,
+                   double perSpp, uint32_t spp0 = 16) {
+  TermPilotRuns r{term, {}};
+  for (uint32_t round = 0; round < 4; ++round) {
+    TermPilotRound pilot;
+    pilot.spp = termPilotSpp(round, spp0);
+    pilot.seconds = fixed + perSpp * pilot.spp;
+    const double sign = round < 2 ? 1.0 : -1.0;
+    for (size_t k = 0; k < mean.size(); ++k)
+      pilot.gradient.push_back(mean[k] + sign * spread[k] * std::sqrt(double(spp0) / pilot.spp));
+    r.rounds.push_back(pilot);
   }
   return r;
 }
@@ -30,37 +37,57 @@ const TermCost& cost(const TermAllocation& a, const std::string& term) {
   throw std::runtime_error("no term " + term);
 }
 
-TEST(TermPilot, SamplesFollowTheSquareRootOfVarianceOverTime) {
-  // One parameter, mean 0: the second moment is the summed variance, 4/3 (1 + 1/16 + 4) s².
-  const double s = 4.0 / 3.0;
-  const auto a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.1), runs("edges", {0}, {0.25}, 0.1),
-                                      runs("boundary", {0}, {2.0}, 0.4)},
+TEST(TermPilot, RoundsComeInPairsAtTwoSampleCounts) {
+  EXPECT_EQ(termPilotSpp(0, 16), 16u);
+  EXPECT_EQ(termPilotSpp(1, 16), 8u);
+  EXPECT_EQ(termPilotSpp(2, 16), 16u);
+  EXPECT_EQ(termPilotSpp(3, 16), 8u);
+  EXPECT_EQ(termPilotSpp(1, 1), 2u);
+  EXPECT_EQ(termPilotSpp(1, 3), 1u);
+}
+
+TEST(TermPilot, SamplesFollowTheSquareRootOfVarianceOverSecondsPerSample) {
+  // One parameter, mean 0: the weight is the summed variance (1 + 1/16 + 4) × 2 spread² at 16 spp.
+  const auto a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01), runs("edges", {0}, {0.25}, 0.0, 0.01),
+                                      runs("boundary", {0}, {2.0}, 0.0, 0.04)},
                                      16);
-  const double moment = s * (1 + 0.0625 + 4);
-  EXPECT_NEAR(cost(a, "interior").variance, s / moment, 1e-12);
-  EXPECT_NEAR(cost(a, "boundary").variance, 4 * s / moment, 1e-12);
-  EXPECT_EQ(cost(a, "interior").seconds, 0.1);
+  EXPECT_NEAR(cost(a, "interior").variance, 1 / 5.0625, 1e-12);
+  EXPECT_NEAR(cost(a, "boundary").variance, 4 / 5.0625, 1e-12);
+  EXPECT_NEAR(cost(a, "interior").sampleSeconds, 0.16, 1e-12);
+  EXPECT_NEAR(cost(a, "interior").fixedSeconds, 0.0, 1e-12);
   // Edges: sqrt(1/16 / 1) = 1/4 of the interior's 16; boundary sqrt(4 / 4) = 1, the same as it.
   EXPECT_EQ(a.sppEdge, 4u);
   EXPECT_EQ(a.sppBoundary, 16u);
   EXPECT_EQ(cost(a, "interior").spp, 16u);
-  // Predicted: variance (1 + 4/16 + 4) / (1 + 1/16 + 4), seconds (0.1 + 0.1/4 + 0.4) / 0.6.
+  // Predicted: variance (1 + 4/16 + 4) / (1 + 1/16 + 4), seconds (0.16 + 0.04 + 0.64) / 0.96.
   EXPECT_NEAR(a.varianceRatio, 5.25 / 5.0625, 1e-12);
-  EXPECT_NEAR(a.secondsRatio, 0.525 / 0.6, 1e-12);
+  EXPECT_NEAR(a.secondsRatio, 0.84 / 0.96, 1e-12);
+}
+
+TEST(TermPilot, FixedCostsDoNotCountAgainstSamples) {
+  // The edge term costs 10x the interior's time at 16 spp, but almost all of it per render: per
+  // sample it is as cheap as the interior, so equal variance gets equal samples.
+  auto a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01), runs("edges", {0}, {1.0}, 1.44, 0.01)}, 16);
+  EXPECT_NEAR(cost(a, "edges").fixedSeconds, 1.44, 1e-9);
+  EXPECT_EQ(a.sppEdge, 16u);
+  // All fixed (a launch-bound term): a tenth of its time counts as per sample, not none.
+  a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01), runs("edges", {0}, {1.0}, 1.6, 0.0)}, 16);
+  EXPECT_NEAR(cost(a, "edges").sampleSeconds, 0.16, 1e-9);
+  EXPECT_EQ(a.sppEdge, 16u);
 }
 
 TEST(TermPilot, ClampsAndTheSharedPathsOfTheBoundaryTerm) {
   // Edges with no variance get one sample; a boundary term 100x as noisy per second is capped at 8x.
-  auto a = allocateTermSamples({runs("interior", {0}, {1.0}, 1.0), runs("edges", {0}, {0.0}, 1.0),
-                                runs("boundary", {0}, {10.0}, 1.0)},
+  auto a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01), runs("edges", {0}, {0.0}, 0.0, 0.01),
+                                runs("boundary", {0}, {10.0}, 0.0, 0.01)},
                                16);
   EXPECT_EQ(a.sppEdge, 1u);
   EXPECT_EQ(a.sppBoundary, 8u * 16u);
   // A boundary term at 1.3x the interior's samples (variance 1.69x, same time) is set equal to it;
   // at 1.6x it is not.
-  a = allocateTermSamples({runs("interior", {0}, {1.0}, 1.0), runs("boundary", {0}, {1.3}, 1.0)}, 10);
+  a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01, 10), runs("boundary", {0}, {1.3}, 0.0, 0.01, 10)}, 10);
   EXPECT_EQ(a.sppBoundary, 10u);
-  a = allocateTermSamples({runs("interior", {0}, {1.0}, 1.0), runs("boundary", {0}, {1.6}, 1.0)}, 10);
+  a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01, 10), runs("boundary", {0}, {1.6}, 0.0, 0.01, 10)}, 10);
   EXPECT_EQ(a.sppBoundary, 16u);
   EXPECT_EQ(a.sppEdge, 0u);  // did not run: the experiment's stays
 }
@@ -69,20 +96,20 @@ TEST(TermPilot, ParametersCountRelativeToTheirOwnGradient) {
   // Parameter 0's gradient is 1000x parameter 1's; the interior term is noisy on parameter 1 only,
   // the edge term (as noisy in absolute terms) on parameter 0 only, where it is small beside the
   // mean: in units of each parameter's own gradient the interior term's noise dominates.
-  const auto a = allocateTermSamples({runs("interior", {1000.0, 1.0}, {0.0, 1.0}, 1.0),
-                                      runs("edges", {0.0, 0.0}, {1.0, 0.0}, 1.0)},
-                                     64);
+  const auto a = allocateTermSamples({runs("interior", {1000.0, 1.0}, {0.0, 1.0}, 0.0, 0.01),
+                                      runs("edges", {0.0, 0.0}, {1.0, 0.0}, 0.0, 0.01)},
+                                     16);
   EXPECT_GT(cost(a, "interior").variance, 1e5 * cost(a, "edges").variance);
   EXPECT_EQ(a.sppEdge, 1u);
 }
 
 TEST(TermPilot, KeepsTheExperimentsSamplesWithoutAnInteriorReference) {
-  auto a = allocateTermSamples({runs("edges", {1.0}, {1.0}, 1.0), runs("boundary", {1.0}, {1.0}, 1.0)}, 16);
+  auto a = allocateTermSamples({runs("edges", {1.0}, {1.0}, 0.0, 0.01), runs("boundary", {1.0}, {1.0}, 0.0, 0.01)}, 16);
   EXPECT_EQ(a.sppEdge, 0u);
   EXPECT_EQ(a.sppBoundary, 0u);
   ASSERT_FALSE(a.reasons.empty());
   EXPECT_NE(a.reasons.front().find("does not run"), std::string::npos) << a.reasons.front();
-  a = allocateTermSamples({runs("interior", {1.0}, {0.0}, 1.0), runs("edges", {1.0}, {1.0}, 1.0)}, 16);
+  a = allocateTermSamples({runs("interior", {1.0}, {0.0}, 0.0, 0.01), runs("edges", {1.0}, {1.0}, 0.0, 0.01)}, 16);
   EXPECT_EQ(a.sppEdge, 0u);
   EXPECT_NE(a.reasons.front().find("no variance"), std::string::npos) << a.reasons.front();
 }

@@ -33,7 +33,7 @@ namespace fs = std::filesystem;
 
 // Random numbers of iteration `iteration`, target `target` and use `use` (0: the render the loss
 // comes from, 1: the gradient's renders; independent, as THEORY.md §7 requires; 2 + round: the
-// term pilot's rounds): a hash of (seed, iteration, target, use).
+// term pilot's gradients): a hash of (seed, iteration, target, use).
 uint32_t seedFor(uint32_t seed, uint64_t iteration, size_t target, uint32_t use) {
   return derivedSeed((uint64_t(seed) << 32) ^ (iteration * 0x9E3779B97F4A7C15ull) ^ (uint64_t(target) << 8) ^ use);
 }
@@ -403,7 +403,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
           // At the first iteration's θ and adjoint images, with random numbers of its own (uses 2 +
           // round) and its own accumulators, so that the optimisation's gradients are those of a run
           // given the chosen samples from the start (a resumed run reads them from run.json).
-          if (options.progress) options.progress("term pilot: " + std::to_string(kTermPilotRounds) + " gradients of each term");
+          if (options.progress) options.progress("term pilot: " + std::to_string(kTermPilotRounds + 1) + " gradients of each term");
           const auto pilotStart = std::chrono::steady_clock::now();
           AdjointState pilotState;
           const TermAllocation allocation = runTermPilot(renderer, scene, views, gradient, pilotState,

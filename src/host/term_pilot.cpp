@@ -2,8 +2,6 @@
 
 #include <chrono>
 
-#include "host/bench_common.h"
-
 namespace vktg {
 
 TermAllocation runTermPilot(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
@@ -14,31 +12,43 @@ TermAllocation runTermPilot(Renderer& renderer, DeviceScene& scene, const std::v
     bool interior, edges, pathLength;
   };
   const Term terms[] = {{"interior", true, false, false}, {"edges", false, true, false}, {"boundary", false, false, true}};
+  const uint32_t spp = views.front().setup.settings.spp;
   std::vector<TermPilotRuns> runs;
   for (const Term& term : terms) {
     if ((term.interior && !options.interior) || (term.edges && !options.edges) || (term.pathLength && !options.pathLength))
       continue;
     GradientOptions g = options;
     g.interior = term.interior, g.edges = term.edges, g.pathLength = term.pathLength;
-    // Every term at the interior term's samples: the allocation scales from there.
+    // Every term at the round's samples per pixel, set through the views: the allocation scales
+    // from the interior's.
     g.sppEdge = g.sppBoundary = 0;
     g.sharePaths = false;
-    TermPilotRuns run{term.name, {}, 0.0};
-    std::vector<double> seconds;
-    for (uint32_t round = 0; round < kTermPilotRounds; ++round) {
+    // Round `round` at termPilotSpp(round, spp); round -1 (the first gradient of the term, untimed,
+    // at the smaller count) takes the one-time costs: pipelines, buffers.
+    auto gradient = [&](int round, double* seconds) {
       std::vector<AdjointView> seeded = views;
-      for (size_t v = 0; v < seeded.size(); ++v) seeded[v].setup.settings.seed = seeds(round, v);
+      for (size_t v = 0; v < seeded.size(); ++v) {
+        seeded[v].setup.settings.seed = seeds(uint32_t(round + 1), v);
+        seeded[v].setup.settings.spp = termPilotSpp(round < 0 ? 1u : uint32_t(round), spp);
+      }
       const auto start = std::chrono::steady_clock::now();
-      LossGradient gradient = lossGradient(renderer, scene, seeded, g, state);
-      seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-      const bool ran = term.interior ? gradient.plan.interior : term.edges ? gradient.plan.edges : gradient.plan.pathLength;
-      if (!ran) break;  // the planner drops this term for these parameters and views
-      run.gradients.push_back(std::move(gradient.theta));
+      LossGradient result = lossGradient(renderer, scene, seeded, g, state);
+      if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return result;
+    };
+    const LossGradient warmUp = gradient(-1, nullptr);
+    // The planner drops a term that cannot contribute for these parameters and views.
+    if (!(term.interior ? warmUp.plan.interior : term.edges ? warmUp.plan.edges : warmUp.plan.pathLength)) continue;
+    TermPilotRuns run{term.name, {}};
+    for (uint32_t round = 0; round < kTermPilotRounds; ++round) {
+      TermPilotRound r;
+      r.gradient = gradient(int(round), &r.seconds).theta;
+      r.spp = termPilotSpp(round, spp);
+      run.rounds.push_back(std::move(r));
     }
-    run.seconds = median(seconds);
-    if (run.gradients.size() == kTermPilotRounds) runs.push_back(std::move(run));
+    runs.push_back(std::move(run));
   }
-  return allocateTermSamples(runs, views.front().setup.settings.spp);
+  return allocateTermSamples(runs, spp);
 }
 
 }  // namespace vktg

@@ -10,9 +10,10 @@
 
 namespace vktg {
 
-// Runs the pilot at the current θ of `scene`: kTermPilotRounds loss gradients of each term the
-// planner picks for `views`, term by term, with seeds `seeds(round)` for every view (independent of
-// the optimisation's), then allocates.
+// Runs the pilot at the current θ of `scene`: for each term the planner picks for `views`, an
+// untimed first gradient, then kTermPilotRounds timed ones at termPilotSpp samples; the view's seed
+// of gradient r (0 the untimed one) is `seeds(r, view)`, independent of the optimisation's. Then
+// allocates.
 TermAllocation runTermPilot(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
                             const GradientOptions& options, AdjointState& state,
                             const std::function<uint32_t(uint32_t round, size_t view)>& seeds);

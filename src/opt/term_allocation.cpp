@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
+#include "opt/pilot_time_model.h"
 #include "vktg/error.h"
 
 namespace vktg {
@@ -15,27 +17,57 @@ std::string format(const char* pattern, double value) {
   return text;
 }
 
+// Per parameter: the mean over all rounds, and the variance per sample per pixel, pooled over the
+// groups of rounds at equal samples (each group's unbiased variance times its samples, weighted by
+// its degrees of freedom).
+void termStatistics(const TermPilotRuns& run, size_t parameters, std::vector<double>& mean, std::vector<double>& perSample) {
+  std::map<uint32_t, std::vector<const TermPilotRound*>> groups;
+  for (const TermPilotRound& r : run.rounds) {
+    if (r.gradient.size() != parameters || r.spp == 0) throw Error("internal: term pilot rounds differ in their parameters");
+    groups[r.spp].push_back(&r);
+  }
+  mean.assign(parameters, 0.0);
+  perSample.assign(parameters, 0.0);
+  double freedom = 0;
+  for (const TermPilotRound& r : run.rounds)
+    for (size_t k = 0; k < parameters; ++k) mean[k] += r.gradient[k] / double(run.rounds.size());
+  for (const auto& [spp, rounds] : groups) {
+    if (rounds.size() < 2) continue;
+    for (size_t k = 0; k < parameters; ++k) {
+      double m = 0, square = 0;
+      for (const TermPilotRound* r : rounds) m += r->gradient[k] / double(rounds.size());
+      for (const TermPilotRound* r : rounds) square += (r->gradient[k] - m) * (r->gradient[k] - m);
+      perSample[k] += square * spp;  // (n - 1) × unbiased variance × spp
+    }
+    freedom += double(rounds.size() - 1);
+  }
+  if (freedom == 0) throw Error("internal: a term's pilot needs two rounds at equal samples");
+  for (double& v : perSample) v /= freedom;
+}
+
 }  // namespace
+
+uint32_t termPilotSpp(uint32_t round, uint32_t spp) {
+  if (round % 2 == 0) return spp;
+  return spp > 1 ? spp / 2 : 2;
+}
 
 TermAllocation allocateTermSamples(const std::vector<TermPilotRuns>& runs, uint32_t sppInterior) {
   TermAllocation a;
-  const size_t parameters = runs.empty() || runs.front().gradients.empty() ? 0 : runs.front().gradients.front().size();
-  // Per term and parameter: the mean and the unbiased variance over rounds.
-  std::vector<std::vector<double>> means(runs.size(), std::vector<double>(parameters, 0.0)),
-      variances(runs.size(), std::vector<double>(parameters, 0.0));
+  const size_t parameters = runs.empty() || runs.front().rounds.empty() ? 0 : runs.front().rounds.front().gradient.size();
+  std::vector<std::vector<double>> means(runs.size()), variances(runs.size());
   for (size_t i = 0; i < runs.size(); ++i) {
-    const auto& g = runs[i].gradients;
-    if (g.size() < 2) throw Error("internal: a term's pilot needs two rounds at least");
-    for (size_t k = 0; k < parameters; ++k) {
-      double mean = 0, square = 0;
-      for (const auto& round : g) mean += round.at(k);
-      mean /= double(g.size());
-      for (const auto& round : g) square += (round[k] - mean) * (round[k] - mean);
-      means[i][k] = mean;
-      variances[i][k] = square / double(g.size() - 1);
-    }
+    termStatistics(runs[i], parameters, means[i], variances[i]);
+    for (double& v : variances[i]) v /= sppInterior;  // at the reference samples
+    std::vector<double> seconds, spp;
+    for (const TermPilotRound& r : runs[i].rounds) seconds.push_back(r.seconds), spp.push_back(r.spp);
+    const PilotTimeModel model = fitPilotTimes(seconds, spp);
+    TermCost cost{runs[i].term, 0.0, model.fixed, model.perSpp * sppInterior, 0};
+    const double total = cost.fixedSeconds + cost.sampleSeconds;
+    cost.sampleSeconds = std::max(cost.sampleSeconds, kTermPilotMinSampleShare * total);
+    cost.fixedSeconds = total - cost.sampleSeconds;
+    a.terms.push_back(cost);
   }
-  for (size_t i = 0; i < runs.size(); ++i) a.terms.push_back({runs[i].term, 0.0, runs[i].seconds, 0});
   for (size_t k = 0; k < parameters; ++k) {
     double mean = 0, variance = 0;
     for (size_t i = 0; i < runs.size(); ++i) mean += means[i][k], variance += variances[i][k];
@@ -44,17 +76,17 @@ TermAllocation allocateTermSamples(const std::vector<TermPilotRuns>& runs, uint3
     for (size_t i = 0; i < runs.size(); ++i) a.terms[i].variance += variances[i][k] / moment;
   }
   auto interior = std::find_if(a.terms.begin(), a.terms.end(), [](const TermCost& t) { return t.term == "interior"; });
-  if (interior == a.terms.end() || !(interior->variance > 0) || !(interior->seconds > 0)) {
+  if (interior == a.terms.end() || !(interior->variance > 0) || !(interior->sampleSeconds > 0)) {
     a.reasons.push_back(interior == a.terms.end()
                             ? "term samples: the experiment's (the interior term, which the others are set against, does not run)"
                             : "term samples: the experiment's (the interior term's pilot measured no variance)");
     return a;
   }
-  const double reference = std::sqrt(interior->variance / interior->seconds);
+  const double reference = std::sqrt(interior->variance / interior->sampleSeconds);
   double variance = 0, allocatedVariance = 0, seconds = 0, allocatedSeconds = 0;
   for (TermCost& t : a.terms) {
-    // Timing noise or a term that adds nothing: the fewest samples (still unbiased).
-    const double ratio = t.seconds > 0 ? std::sqrt(t.variance / t.seconds) / reference : 0.0;
+    const double ratio = t.sampleSeconds > 0 ? std::sqrt(t.variance / t.sampleSeconds) / reference : 0.0;
+    // A term that adds no measured variance gets the fewest samples (still unbiased).
     double spp = t.term == "interior" ? double(sppInterior) : std::round(ratio * sppInterior);
     spp = std::clamp(spp, 1.0, double(kTermPilotMaxFactor) * sppInterior);
     if (t.term == "boundary" && ratio * kTermPilotShareFactor >= 1.0 && ratio <= kTermPilotShareFactor)
@@ -62,22 +94,23 @@ TermAllocation allocateTermSamples(const std::vector<TermPilotRuns>& runs, uint3
     t.spp = uint32_t(spp);
     const double x = spp / sppInterior;
     variance += t.variance, allocatedVariance += t.variance / x;
-    seconds += t.seconds, allocatedSeconds += t.seconds * x;
+    seconds += t.fixedSeconds + t.sampleSeconds, allocatedSeconds += t.fixedSeconds + t.sampleSeconds * x;
     if (t.term == "edges") a.sppEdge = t.spp;
     if (t.term == "boundary") a.sppBoundary = t.spp;
   }
   a.varianceRatio = variance > 0 ? allocatedVariance / variance : 1.0;
   a.secondsRatio = seconds > 0 ? allocatedSeconds / seconds : 1.0;
-  a.reasons.push_back("term samples from a pilot of " + std::to_string(runs.front().gradients.size()) +
-                      " gradients per term: samples ∝ sqrt(variance / seconds), the interior term's fixed");
+  a.reasons.push_back("term samples from a pilot of " + std::to_string(runs.front().rounds.size()) +
+                      " gradients per term: samples ∝ sqrt(variance / seconds per sample), the interior term's fixed");
   return a;
 }
 
 std::vector<std::string> describeAllocation(const TermAllocation& a) {
   std::vector<std::string> lines = a.reasons;
   for (const TermCost& t : a.terms)
-    lines.push_back("  " + t.term + ": variance " + format("%.3g", t.variance) + ", " + format("%.3g s", t.seconds) +
-                    " per pilot gradient -> " + std::to_string(t.spp) + " spp");
+    lines.push_back("  " + t.term + ": variance " + format("%.3g", t.variance) + ", " + format("%.3g s", t.fixedSeconds) +
+                    " + " + format("%.3g s", t.sampleSeconds) + " per gradient at the interior's samples -> " +
+                    std::to_string(t.spp) + " spp");
   if (!a.terms.empty() && (a.sppEdge || a.sppBoundary))
     lines.push_back("  predicted against every term at the interior's samples: variance " + format("%.2fx", a.varianceRatio) +
                     ", seconds " + format("%.2fx", a.secondsRatio));

@@ -1,10 +1,11 @@
 // Samples for each term of a loss gradient, chosen by a measured pilot. The gradient is a sum of
 // independent estimates (interior, edges, path-length boundary), so its variance is the sum of
-// theirs, V_i / x_i for a term given x_i times the pilot's samples; with c_i the seconds of one
-// pilot gradient of term i, the variance of a gradient of fixed cost is least when
-// x_i ∝ sqrt(V_i / c_i) (a Lagrange multiplier on sum c_i x_i). The interior term keeps the samples
-// the experiment gives it and the others follow from it. A term whose samples buy little variance
-// (a heightfield's edges seen from above) thus gets few, one that is cheap and noisy more.
+// theirs, V_i / x_i for a term given x_i times the reference samples (the interior term's). Its
+// time is Σ (f_i + P_i x_i): a fixed part per render (launches, submissions) and a part per sample.
+// The variance of a gradient of given time is least when x_i ∝ sqrt(V_i / P_i) (a Lagrange
+// multiplier on the time; the fixed parts are paid whatever x_i). The interior term keeps the
+// samples the experiment gives it and the others follow from it: a term whose samples buy little
+// variance (a heightfield's edges seen from above) gets few, a cheap and noisy one more.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -12,19 +13,25 @@
 
 namespace vktg {
 
-// One term's pilot: the loss gradients of a few rounds with independent random numbers, every
-// round at the interior term's samples per pixel, and their wall-clock seconds.
+// One round of a term's pilot: its loss gradient with random numbers of its own, at `spp` samples
+// per pixel, and the seconds it took.
+struct TermPilotRound {
+  std::vector<double> gradient;  // d loss / d θ
+  uint32_t spp = 0;
+  double seconds = 0;
+};
+
 struct TermPilotRuns {
-  std::string term;                            // "interior", "edges", "boundary"
-  std::vector<std::vector<double>> gradients;  // per round: d loss / d θ
-  double seconds = 0;                          // of one round (the median)
+  std::string term;  // "interior", "edges", "boundary"
+  std::vector<TermPilotRound> rounds;
 };
 
 struct TermCost {
   std::string term;
-  double variance = 0;  // Σ_k Var(g_ik) / E[g_k²] at the pilot's samples (see allocateTermSamples)
-  double seconds = 0;   // seconds of one pilot gradient
-  uint32_t spp = 0;     // what the allocation gives the term
+  double variance = 0;          // Σ_k Var(g_ik) / E[g_k²] at the reference samples (see allocateTermSamples)
+  double fixedSeconds = 0;      // f_i: per gradient, whatever its samples
+  double sampleSeconds = 0;     // P_i: the part that scales with the samples, at the reference samples
+  uint32_t spp = 0;             // what the allocation gives the term
 };
 
 struct TermAllocation {
@@ -36,13 +43,23 @@ struct TermAllocation {
   std::vector<std::string> reasons;
 };
 
-// Pilot rounds per term: the variance of each parameter's derivative from 3 degrees of freedom,
-// summed over parameters (and square-rooted) before it sets a sample count.
-inline constexpr uint32_t kTermPilotRounds = 4;
+// Pilot rounds per term, alternating between two sample counts (termPilotSpp): the rounds at each
+// count give each parameter's variance 2 degrees of freedom, the two counts the time model. Summed
+// over parameters and square-rooted before it sets a sample count, the variance need not be exact,
+// but a term with rare large samples (a box gate's jumps) measured 3x too low from 3 degrees of
+// freedom (`vktg bench optimize --sizes 11 --scale 0.5`: 0.22 against 0.77 from 14).
+inline constexpr uint32_t kTermPilotRounds = 6;
+// Samples per pixel of round `round` when the interior term has `spp`: even rounds at spp, odd ones
+// at spp / 2 (at 2 when spp is 1).
+uint32_t termPilotSpp(uint32_t round, uint32_t spp);
 // Allocations stay within [1, kTermPilotMaxFactor × the interior's samples]: a term measured with
 // little variance still gets a sample per pixel (unbiased either way), and a noisy pilot cannot ask
 // for a gradient many times the experiment's.
 inline constexpr uint32_t kTermPilotMaxFactor = 8;
+// The part of a term's time at the reference samples that the allocation takes to scale with them,
+// at least: a launch-bound term (all fixed, within timing noise) would otherwise be given samples
+// as if they were free.
+inline constexpr double kTermPilotMinSampleShare = 0.1;
 // A path-length-boundary allocation within this factor of the interior's samples is set equal to
 // them: the per-pixel part then shares the interior term's paths, which costs less than the two
 // traced apart that the pilot timed.
@@ -51,8 +68,10 @@ inline constexpr double kTermPilotShareFactor = 1.5;
 // The allocation from finished pilot runs (pure: no device). Each parameter k is weighted by
 // 1 / E[g_k²], the second moment of its whole gradient (the sum of the terms' means squared plus
 // their variances), so that parameters of different units count alike, as Adam's per-parameter
-// scaling sees them. Needs the interior term among `runs` with variance > 0; otherwise the
-// allocation keeps the experiment's (sppEdge = sppBoundary = 0) and says why.
+// scaling sees them. A term's variance comes from its pairs of rounds at equal samples, scaled to
+// the reference; its time model from all its rounds (fitPilotTimes). Needs the interior term among
+// `runs` with variance > 0; otherwise the allocation keeps the experiment's (sppEdge = sppBoundary =
+// 0) and says why.
 TermAllocation allocateTermSamples(const std::vector<TermPilotRuns>& runs, uint32_t sppInterior);
 
 // The allocation's lines for --explain and the progress output.
