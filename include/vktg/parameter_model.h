@@ -90,8 +90,9 @@ class ParameterModel {
   std::vector<bool> m_deformingVertex;
   uint32_t m_kinds = 0;                       // bit k: a parameter of ParameterKind k is selected
   glm::bvec3 m_motionAxes{false};
-  // Per θ index: the parameter's axis, w = 1 for a rotation. The chain rule reads these 16 bytes
-  // per parameter instead of the whole Parameter record (names, vertex lists).
+  // Per θ index: the parameter's axis, w = 1 for a rotation. For a vertex moved by a lone
+  // translation or displacement the chain rule reads these 16 bytes instead of the whole Parameter
+  // record (names, vertex lists).
   std::vector<glm::vec4> m_motion;
   std::vector<uint32_t> m_scalarParameters;  // θ indices of parameters that move no vertex, declaration order
 };

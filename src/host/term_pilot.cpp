@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "host/planner.h"
+
 namespace vktg {
 
 TermAllocation runTermPilot(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
@@ -49,6 +51,17 @@ TermAllocation runTermPilot(Renderer& renderer, DeviceScene& scene, const std::v
     runs.push_back(std::move(run));
   }
   return allocateTermSamples(runs, spp);
+}
+
+std::vector<std::string> describeAllocation(const TermAllocation& a) {
+  std::vector<std::string> lines = a.reasons;
+  for (const TermCost& t : a.terms)
+    lines.push_back(formatReason("  %s: variance %.3g, %.3g s + %.3g s per gradient at the interior's samples -> %u spp",
+                                 t.term.c_str(), t.variance, t.fixedSeconds, t.sampleSeconds, t.spp));
+  if (!a.terms.empty() && (a.sppEdge || a.sppBoundary))
+    lines.push_back(formatReason("  predicted against every term at the interior's samples: variance %.2fx, seconds %.2fx",
+                                 a.varianceRatio, a.secondsRatio));
+  return lines;
 }
 
 }  // namespace vktg

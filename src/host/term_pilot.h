@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "host/gradient.h"
@@ -17,5 +18,8 @@ namespace vktg {
 TermAllocation runTermPilot(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
                             const GradientOptions& options, AdjointState& state,
                             const std::function<uint32_t(uint32_t round, size_t view)>& seeds);
+
+// The allocation's lines for the progress output.
+std::vector<std::string> describeAllocation(const TermAllocation& allocation);
 
 }  // namespace vktg

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 
 #include "opt/pilot_time_model.h"
@@ -10,12 +9,6 @@
 
 namespace vktg {
 namespace {
-
-std::string format(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
 
 // Per parameter: the mean over all rounds, and the variance per sample per pixel, pooled over the
 // groups of rounds at equal samples (each group's unbiased variance times its samples, weighted by
@@ -103,18 +96,6 @@ TermAllocation allocateTermSamples(const std::vector<TermPilotRuns>& runs, uint3
   a.reasons.push_back("term samples from a pilot of " + std::to_string(runs.front().rounds.size()) +
                       " gradients per term: samples ∝ sqrt(variance / seconds per sample), the interior term's fixed");
   return a;
-}
-
-std::vector<std::string> describeAllocation(const TermAllocation& a) {
-  std::vector<std::string> lines = a.reasons;
-  for (const TermCost& t : a.terms)
-    lines.push_back("  " + t.term + ": variance " + format("%.3g", t.variance) + ", " + format("%.3g s", t.fixedSeconds) +
-                    " + " + format("%.3g s", t.sampleSeconds) + " per gradient at the interior's samples -> " +
-                    std::to_string(t.spp) + " spp");
-  if (!a.terms.empty() && (a.sppEdge || a.sppBoundary))
-    lines.push_back("  predicted against every term at the interior's samples: variance " + format("%.2fx", a.varianceRatio) +
-                    ", seconds " + format("%.2fx", a.secondsRatio));
-  return lines;
 }
 
 }  // namespace vktg

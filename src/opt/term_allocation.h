@@ -74,7 +74,4 @@ inline constexpr double kTermPilotShareFactor = 1.5;
 // 0) and says why.
 TermAllocation allocateTermSamples(const std::vector<TermPilotRuns>& runs, uint32_t sppInterior);
 
-// The allocation's lines for --explain and the progress output.
-std::vector<std::string> describeAllocation(const TermAllocation& allocation);
-
 }  // namespace vktg
