@@ -170,6 +170,42 @@ TEST(GradBoundary, PerspectiveEmitterSeenDirectly) {
   });
 }
 
+// The term's two estimators run apart (as the term pilot of `vktg optimize` times them): each alone
+// gives its own part, the two add up to the term exactly (same seeds), and the connections from the
+// camera take their own sample count. Max depth 3, so that both run behind the pinhole.
+TEST(GradBoundary, EstimatorsRunApartAddUpToTheTerm) {
+  Scene scene = perspectivePlaneScene(4, 61, 3.7, 4.0, 3);
+  scene.pointLights[0].position = {0.5f, 0.3f, 1.5f};
+  GradientOptions options;
+  options.interior = options.edges = false;
+  options.sppBoundaryCamera = 8;
+  auto run = [&](bool perPixel, bool fromCamera) {
+    GradientOptions o = options;
+    o.pathLengthPerPixel = perPixel, o.pathLengthFromCamera = fromCamera;
+    return renderGradient(testRenderer(), scene, {"t"}, o);
+  };
+  const GradientResult both = run(true, true), perPixel = run(true, false), fromCamera = run(false, true);
+  EXPECT_TRUE(both.plan.pathLengthPerPixel && both.plan.pathLengthFromCamera);
+  EXPECT_TRUE(perPixel.plan.pathLengthPerPixel && !perPixel.plan.pathLengthFromCamera);
+  EXPECT_TRUE(!fromCamera.plan.pathLengthPerPixel && fromCamera.plan.pathLengthFromCamera);
+  // Paths beyond the primal render's (the interior term, which would make the image, is off).
+  const uint64_t pixels = uint64_t(kPerspectiveResolution) * kPerspectiveResolution;
+  auto termPaths = [](const GradientResult& g) { return g.stats.paths - g.primal.stats.paths; };
+  EXPECT_EQ(termPaths(perPixel), pixels * 4);
+  EXPECT_EQ(termPaths(fromCamera), pixels * 8);
+  EXPECT_EQ(termPaths(both), pixels * 12);
+  const std::vector<float>& sum = both.pathLength.derivatives.at(0).layers.at(0).pixels;
+  const std::vector<float>& a = perPixel.pathLength.derivatives.at(0).layers.at(0).pixels;
+  const std::vector<float>& b = fromCamera.pathLength.derivatives.at(0).layers.at(0).pixels;
+  ASSERT_EQ(sum.size(), a.size());
+  double camera = 0;
+  for (size_t i = 0; i < sum.size(); ++i) {
+    EXPECT_EQ(sum[i], a[i] + b[i]) << "pixel " << i;
+    camera += std::abs(b[i]);
+  }
+  EXPECT_GT(camera, 0.0) << "the camera's connections carry this scene's jumps";
+}
+
 // Truncated gaussian gate (mu 2.8, sigma 0.3, support [2.4, 3.2]): the interior and boundary terms
 // are both non-zero; the totals against the differentiated quadrature (grad_slow_boundary.cpp
 // runs the same at five times the samples, with finite differences too).

@@ -172,7 +172,8 @@ TEST(OptimizeResume, RunInterruptedBeforeItsFirstIterationResumes) {
   EXPECT_EQ(rowsWithoutTime(dir / "parts" / "log.csv"), rowsWithoutTime(dir / "whole" / "log.csv"));
 }
 
-// "spp_edge" and "spp_boundary": "auto". The term pilot runs once, at the first iteration, and its
+// "spp_edge" and "spp_boundary": "auto" (which "spp_boundary_camera" follows when left out). The
+// term pilot runs once, at the first iteration, and its
 // choice goes to run.json; a run interrupted after it and resumed uses that choice without a second
 // pilot, and its log and θ are bit for bit those of a run given the chosen samples as numbers from
 // the start (the pilot's random numbers and accumulators are its own).
@@ -201,8 +202,9 @@ TEST(OptimizeTermPilot, ChoosesTermSamplesOnceAndTheRunIsThatOfItsChoice) {
   const nlohmann::json info = nlohmann::json::parse(test::readFileBytes(dir / "parts" / "run.json"));
   ASSERT_TRUE(info.contains("term_pilot")) << info.dump();
   const uint32_t edge = info["term_pilot"].at("spp_edge"), boundary = info["term_pilot"].at("spp_boundary");
-  std::printf("  the pilot chose %u edge and %u boundary samples per pixel\n", edge, boundary);
-  for (uint32_t spp : {edge, boundary}) {
+  const uint32_t camera = info["term_pilot"].at("spp_boundary_camera");
+  std::printf("  the pilot chose %u edge, %u boundary and %u camera-boundary samples per pixel\n", edge, boundary, camera);
+  for (uint32_t spp : {edge, boundary, camera}) {
     EXPECT_GE(spp, 1u);
     EXPECT_LE(spp, kTermPilotMaxFactor * 16u);
   }
@@ -218,6 +220,7 @@ TEST(OptimizeTermPilot, ChoosesTermSamplesOnceAndTheRunIsThatOfItsChoice) {
 
   experiment["render"]["spp_edge"] = edge;
   experiment["render"]["spp_boundary"] = boundary;
+  experiment["render"]["spp_boundary_camera"] = camera;
   std::ofstream(dir / "chosen.json") << experiment.dump();
   run(dir / "chosen.json", dir / "whole", kIterations);
   EXPECT_FALSE(nlohmann::json::parse(test::readFileBytes(dir / "whole" / "run.json")).contains("term_pilot"));

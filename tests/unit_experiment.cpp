@@ -225,6 +225,10 @@ const BadCase kCases[] = {
     {"zero edge spp", [](json& j) { j["render"]["spp_edge"] = 0; }, "render.spp_edge", "out of range"},
     {"edge spp word", [](json& j) { j["render"]["spp_edge"] = "pilot"; }, "render.spp_edge", "unknown value"},
     {"boundary spp of wrong type", [](json& j) { j["render"]["spp_boundary"] = true; }, "render.spp_boundary", "wrong type"},
+    {"camera boundary spp word", [](json& j) { j["render"]["spp_boundary_camera"] = "pilot"; }, "render.spp_boundary_camera",
+     "unknown value"},
+    {"zero camera boundary spp", [](json& j) { j["render"]["spp_boundary_camera"] = 0; }, "render.spp_boundary_camera",
+     "out of range"},
     {"terms word", [](json& j) { j["render"]["terms"] = "all"; }, "render.terms", "unknown value"},
     {"no terms", [](json& j) { j["render"]["terms"] = json::array(); }, "render.terms", "empty list"},
     {"unknown term", [](json& j) { j["render"]["terms"] = {"edges"}; }, "render.terms[0]", "unknown value"},
@@ -426,7 +430,7 @@ TEST(Experiment, DefaultsOfAMinimalFile) {
   EXPECT_FALSE(x.preconditioner);
   EXPECT_EQ(x.budget.sppPrimal, 16u);
   EXPECT_EQ(x.budget.sppEdge, 16u);
-  EXPECT_FALSE(x.budget.sppEdgeAuto || x.budget.sppBoundaryAuto);
+  EXPECT_FALSE(x.budget.sppEdgeAuto || x.budget.sppBoundaryAuto || x.budget.sppBoundaryCameraAuto);
   EXPECT_TRUE(x.budget.interior && x.budget.edge && x.budget.pathLength);
   EXPECT_EQ(x.budget.antithetic, "auto");
   EXPECT_EQ(x.budget.nee, NeeMode::Auto);
@@ -450,6 +454,22 @@ TEST(Experiment, TermSamplesMayBeLeftToThePilot) {
   EXPECT_FALSE(x.budget.sppEdgeAuto);
   EXPECT_EQ(x.budget.sppEdge, 3u);
   EXPECT_TRUE(x.budget.sppBoundaryAuto);
+  // The boundary's connections from the camera follow "spp_boundary" unless given their own.
+  EXPECT_TRUE(x.budget.sppBoundaryCameraAuto);
+  j["render"]["spp_boundary_camera"] = 5;
+  x = parseExperimentJson(j.dump(), kFile, kData);
+  EXPECT_TRUE(x.budget.sppBoundaryAuto);
+  EXPECT_FALSE(x.budget.sppBoundaryCameraAuto);
+  EXPECT_EQ(x.budget.sppBoundaryCamera, 5u);
+  j["render"]["spp_boundary"] = 7;
+  j["render"].erase("spp_boundary_camera");
+  x = parseExperimentJson(j.dump(), kFile, kData);
+  EXPECT_FALSE(x.budget.sppBoundaryCameraAuto);
+  EXPECT_EQ(x.budget.sppBoundaryCamera, 7u);
+  j["render"]["spp_boundary_camera"] = "auto";
+  x = parseExperimentJson(j.dump(), kFile, kData);
+  EXPECT_FALSE(x.budget.sppBoundaryAuto);
+  EXPECT_TRUE(x.budget.sppBoundaryCameraAuto);
 }
 
 TEST(Experiment, PatternsSelectInSceneOrderAndEntriesKeepTheirOrder) {

@@ -1,8 +1,9 @@
 // The term pilot's allocation (opt/term_allocation.h) from synthetic pilot runs whose variances and
 // times are known: samples ∝ sqrt(variance / seconds per sample) against the interior term, the
-// fixed part of a term's time left out of that, the clamps, the path-length boundary set equal to
-// the interior where it would share its paths, each parameter weighted by its gradient's second
-// moment, and the fallbacks that keep the experiment's samples.
+// fixed part of a term's time left out of that, the clamps, the path-length boundary's per-pixel
+// connections set equal to the interior where they would share its paths (those from the camera
+// never), each parameter weighted by its gradient's second moment, and the fallbacks that keep the
+// experiment's samples.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -90,6 +91,13 @@ TEST(TermPilot, ClampsAndTheSharedPathsOfTheBoundaryTerm) {
   a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01, 10), runs("boundary", {0}, {1.6}, 0.0, 0.01, 10)}, 10);
   EXPECT_EQ(a.sppBoundary, 16u);
   EXPECT_EQ(a.sppEdge, 0u);  // did not run: the experiment's stays
+  EXPECT_EQ(a.sppBoundaryCamera, 0u);
+  // The connections from the camera are splatted, never on the interior's paths: 1.3x stays 13.
+  a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01, 10), runs("boundary", {0}, {0.1}, 0.0, 0.01, 10),
+                           runs("boundary-camera", {0}, {1.3}, 0.0, 0.01, 10)},
+                          10);
+  EXPECT_EQ(a.sppBoundaryCamera, 13u);
+  EXPECT_EQ(a.sppBoundary, 1u);
 }
 
 TEST(TermPilot, ParametersCountRelativeToTheirOwnGradient) {

@@ -68,6 +68,8 @@ const CommandSpec& gradSpec() {
     s.options.push_back({"--terms", "LIST", "terms to compute: interior,edge,pathlength (default: those the planner finds needed)"});
     s.options.push_back({"--split-terms", "", "also write each term's images (FILE.interior.exr, FILE.edge.exr, FILE.pathlength.exr)"});
     s.options.push_back({"--spp-boundary", "N", "samples per pixel of the path-length-boundary pass (default: --spp)"});
+    s.options.push_back({"--spp-boundary-camera", "N",
+                         "of its connections from the camera, splatted (default: --spp-boundary)"});
     s.options.push_back({"--spp-edge", "N", "edge samples per pixel, on average, of the edge pass (default: --spp)"});
     s.options.push_back({"--antithetic", "MODE", "auto | on | off: antithetic pairs (mirrored lengths of a gaussian gate; both jumps of a box or truncated gaussian in the path-length-boundary pass), auto: for near-delta gates (default)"});
     s.options.push_back({"--explain", "", "print the planner's choices and why"});
@@ -122,6 +124,7 @@ int runGrad(const std::vector<std::string>& argv) {
     else throw UsageError("--antithetic: '" + *antithetic + "' is not one of auto, on, off");
   }
   gradient.sppBoundary = args.count("--spp-boundary", 1, 1u << 24).value_or(0);
+  gradient.sppBoundaryCamera = args.count("--spp-boundary-camera", 1, 1u << 24).value_or(0);
   gradient.sppEdge = args.count("--spp-edge", 1, 1u << 24).value_or(0);
   RenderOptions& options = gradient.render;
   applyEstimatorOptions(args, options);

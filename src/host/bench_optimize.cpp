@@ -150,6 +150,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
           runTermPilot(renderer, device, views, g, pilotState, [](uint32_t round, size_t) { return 1000 + round; });
       row.pilotSppEdge = allocation.sppEdge;
       row.pilotSppBoundary = allocation.sppBoundary;
+      row.pilotSppBoundaryCamera = allocation.sppBoundaryCamera;
       row.pilotVarianceRatio = allocation.varianceRatio;
       for (const std::string& line : describeAllocation(allocation)) options.say("  " + line);
     }
@@ -157,6 +158,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
       if (!v.pilotSamples) return;
       g.sppEdge = row.pilotSppEdge;
       g.sppBoundary = row.pilotSppBoundary;
+      g.sppBoundaryCamera = row.pilotSppBoundaryCamera;
     };
     std::mt19937 rng(1);
     std::uniform_real_distribution<double> step(-1e-3, 1e-3);
@@ -215,9 +217,9 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
                   row.checkSeconds, row.iterationSeconds() / row.renderSeconds);
     options.say(line);
     std::snprintf(line, sizeof line,
-                  "  with the term pilot's samples (edges %u, path-length boundary %u per pixel; predicted variance %.2fx): "
-                  "all terms %.2fx, iteration %.2fx the render",
-                  row.pilotSppEdge, row.pilotSppBoundary, row.pilotVarianceRatio, row.pilotAllSeconds / row.renderSeconds,
+                  "  with the term pilot's samples (edges %u, path-length boundary %u, from the camera %u per pixel; "
+                  "predicted variance %.2fx): all terms %.2fx, iteration %.2fx the render",
+                  row.pilotSppEdge, row.pilotSppBoundary, row.pilotSppBoundaryCamera, row.pilotVarianceRatio, row.pilotAllSeconds / row.renderSeconds,
                   row.iterationSeconds(true) / row.renderSeconds);
     options.say(line);
     // The adjoint figures are kept before the forward-mode contrast, which builds the scene again for
@@ -249,12 +251,12 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
 void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOptimizeOptions& options, const std::string& command) {
   std::ostringstream csv;
   csv << "size,parameters,triangles,build_s,update_s,check_s,render_s,interior_s,edge_s,boundary_s,all_s,all_apart_s,iteration_s,"
-         "pilot_spp_edge,pilot_spp_boundary,pilot_variance_ratio,pilot_all_s,pilot_iteration_s,dense_lanes,dense_s\n";
+         "pilot_spp_edge,pilot_spp_boundary,pilot_spp_boundary_camera,pilot_variance_ratio,pilot_all_s,pilot_iteration_s,dense_lanes,dense_s\n";
   for (const BenchOptimizeRow& r : report.rows)
     csv << r.size << "," << r.parameters << "," << r.triangles << "," << r.buildSeconds << "," << r.updateSeconds << "," << r.checkSeconds << ","
         << r.renderSeconds << "," << r.interiorSeconds << "," << r.edgeSeconds << "," << r.boundarySeconds << ","
         << r.allSeconds << "," << r.allApartSeconds << "," << r.iterationSeconds() << "," << r.pilotSppEdge << ","
-        << r.pilotSppBoundary << "," << r.pilotVarianceRatio << "," << r.pilotAllSeconds << "," << r.iterationSeconds(true)
+        << r.pilotSppBoundary << "," << r.pilotSppBoundaryCamera << "," << r.pilotVarianceRatio << "," << r.pilotAllSeconds << "," << r.iterationSeconds(true)
         << "," << r.denseLanes << "," << r.denseSeconds << "\n";
   std::filesystem::create_directories(options.outDir);
   writeFileAtomic(options.outDir / "bench.csv", csv.str());
@@ -265,10 +267,11 @@ void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOpti
      << "an eighth of the SAH check, the render and the gradient of every term run (loss and step are host work).\n"
      << "All terms run: the interior and per-pixel path-length-boundary terms share one trace of the paths; \"apart\":\n"
      << "each traces its own. Pilot: the term pilot's samples per pixel for the edge and path-length-boundary terms\n"
-     << "(the interior term's fixed at the render's) and the variance of the gradient it predicts for them, relative\n"
+     << "(the latter's connections from path vertices, then from the camera; the interior term's fixed at the\n"
+     << "render's) and the variance of the gradient it predicts for them, relative\n"
      << "to every term at the render's samples; then all terms and an iteration at those samples.\n\n"
      << "| heightfield | parameters | triangles | render | interior | edges | path-length boundary | all terms run "
-        "| all, apart | update | SAH check | iteration | pilot spp (edge, boundary), variance | all terms, pilot "
+        "| all, apart | update | SAH check | iteration | pilot spp (edge, boundary, camera), variance | all terms, pilot "
         "| iteration, pilot | forward lanes (heights) |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto ratio = [](double seconds, double render) {
@@ -280,13 +283,13 @@ void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOpti
   char cell[512];
   for (const BenchOptimizeRow& r : report.rows) {
     std::snprintf(cell, sizeof cell,
-                  "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %s | %.4f | %.4f | %s | %u, %u, %.2fx | %s | **%s** | %s (%u) |\n",
+                  "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %s | %.4f | %.4f | %s | %u, %u, %u, %.2fx | %s | **%s** | %s (%u) |\n",
                   r.size, r.size, (unsigned long long)r.parameters, (unsigned long long)r.triangles, r.renderSeconds,
                   ratio(r.interiorSeconds, r.renderSeconds).c_str(), ratio(r.edgeSeconds, r.renderSeconds).c_str(),
                   ratio(r.boundarySeconds, r.renderSeconds).c_str(), ratio(r.allSeconds, r.renderSeconds).c_str(),
                   ratio(r.allApartSeconds, r.renderSeconds).c_str(), r.updateSeconds, r.checkSeconds,
                   ratio(r.iterationSeconds(), r.renderSeconds).c_str(), r.pilotSppEdge, r.pilotSppBoundary,
-                  r.pilotVarianceRatio, ratio(r.pilotAllSeconds, r.renderSeconds).c_str(),
+                  r.pilotSppBoundaryCamera, r.pilotVarianceRatio, ratio(r.pilotAllSeconds, r.renderSeconds).c_str(),
                   ratio(r.iterationSeconds(true), r.renderSeconds).c_str(), ratio(r.denseSeconds, r.renderSeconds).c_str(),
                   r.denseLanes);
     md << cell;

@@ -32,9 +32,10 @@ struct BenchOptimizeRow {
   double interiorSeconds = 0, edgeSeconds = 0, boundarySeconds = 0, allSeconds = 0;  // adjoint gradients (NaN: skipped)
   double allApartSeconds = 0;  // all terms, the interior and path-length-boundary terms tracing their own paths
   // The term pilot (host/term_pilot.h, `"spp_edge": "auto"` in an experiment): the samples it
-  // gives the edge and path-length-boundary terms, all terms at those samples, and the variance of
-  // that gradient it predicts relative to all terms at the render's samples.
-  uint32_t pilotSppEdge = 0, pilotSppBoundary = 0;
+  // gives the edge and path-length-boundary terms (the latter's connections from path vertices and
+  // from the camera), all terms at those samples, and the variance of that gradient it predicts
+  // relative to all terms at the render's samples.
+  uint32_t pilotSppEdge = 0, pilotSppBoundary = 0, pilotSppBoundaryCamera = 0;
   double pilotAllSeconds = 0, pilotVarianceRatio = 0;
   uint32_t denseLanes = 0;        // parameters of the forward-mode contrast
   double denseSeconds = 0;        // their derivative images (all terms)

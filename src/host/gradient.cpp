@@ -71,24 +71,28 @@ GradientPlan planGradient(const Scene& scene, const RenderSetup& setup, const Pa
     plan.reasons.push_back("no path-length-boundary pass: no selected parameter changes path lengths or moves the gate");
   } else {
     // A connection from vertex e closes a path of e + 2 segments.
-    if (maxDepth >= firstEllipsoidVertex(camera) + 2) {
+    if (!options.pathLengthPerPixel) {
+      plan.reasons.push_back("path-length-boundary connections from path vertices: not requested");
+    } else if (maxDepth >= firstEllipsoidVertex(camera) + 2) {
       plan.pathLengthPerPixel = true;
       plan.reasons.push_back("path-length-boundary pass: the gate jumps at " + std::to_string(gate.jumpLocations().size()) +
                              " lengths and parameters move path lengths across them");
     }
     bool emitters = std::any_of(scene.shapes.begin(), scene.shapes.end(), [](const Shape& sh) { return sh.emission > 0; });
-    if (camera == CameraType::Perspective && maxDepth >= 2) {
+    if (!options.pathLengthFromCamera) {
+      plan.reasons.push_back("path-length-boundary connections from the camera: not requested");
+    } else if (camera == CameraType::Perspective && maxDepth >= 2) {
       plan.pathLengthFromCamera = true;
       plan.reasons.push_back("path-length-boundary connections from the pinhole, splatted: the pixel fixes the first hit, so paths camera -> surface -> light have no other vertex to place on a jump");
     }
-    if (emitters && maxDepth >= 1) {
+    if (options.pathLengthFromCamera && emitters && maxDepth >= 1) {
       plan.pathLengthFromCamera = true;
       plan.reasons.push_back("path-length-boundary connections from the camera to emitters it sees directly, splatted (one-segment paths)");
     }
     plan.pathLength = plan.pathLengthPerPixel || plan.pathLengthFromCamera;
     if (!plan.pathLength)
       plan.reasons.push_back("no path-length-boundary pass: max depth " + std::to_string(maxDepth) +
-                             " leaves no path a connection could place on a jump");
+                             " leaves no path a requested connection could place on a jump");
   }
   bool twoJumps = gate.type == GateType::Box || gate.type == GateType::TruncatedGaussian;
   bool nearDelta = (gate.type == GateType::Gaussian && gate.sigma <= kNearDeltaSigmaOverMu * gate.mu) ||
@@ -172,7 +176,7 @@ std::vector<TermPass> termPasses(const GradientPlan& plan, const Gate& gate, con
   if (plan.pathLengthPerPixel && !sharePaths) passes.push_back({Term::PathLengthPerPixel, boundary, options.sppBoundary});
   if (plan.pathLengthFromCamera) {
     boundary.pathLengthFromCamera = true;
-    passes.push_back({Term::PathLengthFromCamera, boundary, options.sppBoundary});
+    passes.push_back({Term::PathLengthFromCamera, boundary, options.sppBoundaryCamera ? options.sppBoundaryCamera : options.sppBoundary});
   }
   return passes;
 }

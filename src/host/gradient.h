@@ -19,8 +19,12 @@ struct GradientOptions {
   RenderOptions render;
   bool interior = true;
   bool pathLength = true;           // the planner still drops it when it cannot contribute
+  // Which of the path-length-boundary term's two estimators run (the term pilot times them apart):
+  // connections from the paths' own vertices (per pixel), and from the camera (splatted).
+  bool pathLengthPerPixel = true, pathLengthFromCamera = true;
   bool edges = true;                // likewise
   uint32_t sppBoundary = 0;         // samples per pixel of the path-length-boundary pass (0: the scene's spp)
+  uint32_t sppBoundaryCamera = 0;   // of its connections from the camera (0: sppBoundary's)
   uint32_t sppEdge = 0;             // edge samples per pixel, on average, of the edge pass (0: the scene's spp)
   AntitheticMode antithetic = AntitheticMode::Auto;
   // Loss gradients: the interior and per-pixel path-length-boundary terms from one trace of the

@@ -100,6 +100,7 @@ GradientOptions gradientOptions(const Experiment& e, uint64_t memoryBudget) {
   o.pathLength = e.budget.pathLength;
   o.sppEdge = e.budget.sppEdge;
   o.sppBoundary = e.budget.sppBoundary;
+  o.sppBoundaryCamera = e.budget.sppBoundaryCamera;
   o.antithetic = e.budget.antithetic == "on" ? AntitheticMode::On : e.budget.antithetic == "off" ? AntitheticMode::Off
                                                                                                   : AntitheticMode::Auto;
   o.render.nee = e.budget.nee;
@@ -283,11 +284,13 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
   const bool continueLog = options.resume && (start > 0 || fs::exists(run / "log.csv"));
   RunLog log(run / "log.csv", logColumns(e), continueLog, start);
   GradientOptions gradient = gradientOptions(e, info.memoryBudget);
-  const bool termPilot = (e.budget.sppEdgeAuto || e.budget.sppBoundaryAuto) && !e.budget.finiteDifferences;
+  const bool termPilot =
+      (e.budget.sppEdgeAuto || e.budget.sppBoundaryAuto || e.budget.sppBoundaryCameraAuto) && !e.budget.finiteDifferences;
   // The term pilot's choice (run.json keeps it): applied where the experiment asked for "auto".
   auto applyPilot = [&] {
     if (e.budget.sppEdgeAuto && info.pilotSppEdge) gradient.sppEdge = info.pilotSppEdge;
     if (e.budget.sppBoundaryAuto && info.pilotSppBoundary) gradient.sppBoundary = info.pilotSppBoundary;
+    if (e.budget.sppBoundaryCameraAuto && info.pilotSppBoundaryCamera) gradient.sppBoundaryCamera = info.pilotSppBoundaryCamera;
   };
   if (termPilot && info.pilotDone) applyPilot();
   RenderOptions primalOptions;
@@ -410,6 +413,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
                                                          [&](uint32_t round, size_t t) { return seedFor(e.seed, i, t, 2 + round); });
           info.pilotSppEdge = allocation.sppEdge;
           info.pilotSppBoundary = allocation.sppBoundary;
+          info.pilotSppBoundaryCamera = allocation.sppBoundaryCamera;
           info.pilotDone = true;
           writeRunInfo(run, info);
           applyPilot();

@@ -9,21 +9,29 @@ namespace vktg {
 TermAllocation runTermPilot(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
                             const GradientOptions& options, AdjointState& state,
                             const std::function<uint32_t(uint32_t, size_t)>& seeds) {
+  // The path-length boundary's two estimators are timed apart: their paths, costs and variances
+  // differ (a heightfield's direct returns reach the gate's jumps only through the camera's).
   struct Term {
     const char* name;
-    bool interior, edges, pathLength;
+    bool interior, edges, perPixel, fromCamera;
   };
-  const Term terms[] = {{"interior", true, false, false}, {"edges", false, true, false}, {"boundary", false, false, true}};
+  const Term terms[] = {{"interior", true, false, false, false},
+                        {"edges", false, true, false, false},
+                        {"boundary", false, false, true, false},
+                        {"boundary-camera", false, false, false, true}};
   const uint32_t spp = views.front().setup.settings.spp;
   std::vector<TermPilotRuns> runs;
   for (const Term& term : terms) {
-    if ((term.interior && !options.interior) || (term.edges && !options.edges) || (term.pathLength && !options.pathLength))
+    const bool pathLength = term.perPixel || term.fromCamera;
+    if ((term.interior && !options.interior) || (term.edges && !options.edges) || (pathLength && !options.pathLength) ||
+        (term.perPixel && !options.pathLengthPerPixel) || (term.fromCamera && !options.pathLengthFromCamera))
       continue;
     GradientOptions g = options;
-    g.interior = term.interior, g.edges = term.edges, g.pathLength = term.pathLength;
+    g.interior = term.interior, g.edges = term.edges, g.pathLength = pathLength;
+    g.pathLengthPerPixel = term.perPixel, g.pathLengthFromCamera = term.fromCamera;
     // Every term at the round's samples per pixel, set through the views: the allocation scales
     // from the interior's.
-    g.sppEdge = g.sppBoundary = 0;
+    g.sppEdge = g.sppBoundary = g.sppBoundaryCamera = 0;
     g.sharePaths = false;
     // Round `round` at termPilotSpp(round, spp); round -1 (the first gradient of the term, untimed,
     // at the smaller count) takes the one-time costs: pipelines, buffers.
@@ -40,7 +48,9 @@ TermAllocation runTermPilot(Renderer& renderer, DeviceScene& scene, const std::v
     };
     const LossGradient warmUp = gradient(-1, nullptr);
     // The planner drops a term that cannot contribute for these parameters and views.
-    if (!(term.interior ? warmUp.plan.interior : term.edges ? warmUp.plan.edges : warmUp.plan.pathLength)) continue;
+    const GradientPlan& plan = warmUp.plan;
+    if (!(term.interior ? plan.interior : term.edges ? plan.edges : term.perPixel ? plan.pathLengthPerPixel : plan.pathLengthFromCamera))
+      continue;
     TermPilotRuns run{term.name, {}};
     for (uint32_t round = 0; round < kTermPilotRounds; ++round) {
       TermPilotRound r;
@@ -58,7 +68,7 @@ std::vector<std::string> describeAllocation(const TermAllocation& a) {
   for (const TermCost& t : a.terms)
     lines.push_back(formatReason("  %s: variance %.3g, %.3g s + %.3g s per gradient at the interior's samples -> %u spp",
                                  t.term.c_str(), t.variance, t.fixedSeconds, t.sampleSeconds, t.spp));
-  if (!a.terms.empty() && (a.sppEdge || a.sppBoundary))
+  if (!a.terms.empty() && (a.sppEdge || a.sppBoundary || a.sppBoundaryCamera))
     lines.push_back(formatReason("  predicted against every term at the interior's samples: variance %.2fx, seconds %.2fx",
                                  a.varianceRatio, a.secondsRatio));
   return lines;

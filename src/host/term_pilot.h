@@ -1,5 +1,6 @@
-// The term pilot of `vktg optimize` ("spp_edge" / "spp_boundary": "auto"): a few loss gradients of
-// each term at the current θ, timed, from which opt/term_allocation.h sets the terms' samples.
+// The term pilot of `vktg optimize` ("spp_edge", "spp_boundary", "spp_boundary_camera": "auto"): a
+// few loss gradients of each term at the current θ, timed, from which opt/term_allocation.h sets the
+// terms' samples.
 #pragma once
 #include <cstdint>
 #include <functional>

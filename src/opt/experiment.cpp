@@ -486,8 +486,8 @@ class ExperimentParser {
 
   void parseRender(const JsonValue& value) {
     const JsonObject o(value,
-                       {"spp", "spp_interior", "spp_edge", "spp_boundary", "terms", "antithetic", "nee", "max_depth",
-                        "gradient", "fd_step"});
+                       {"spp", "spp_interior", "spp_edge", "spp_boundary", "spp_boundary_camera", "terms", "antithetic",
+                        "nee", "max_depth", "gradient", "fd_step"});
     BudgetSpec& b = m_x.budget;
     b.sppPrimal = o.uinteger("spp", b.sppPrimal, 1, kMaxSpp);
     b.sppInterior = o.uinteger("spp_interior", b.sppInterior, 1, kMaxSpp);
@@ -504,6 +504,11 @@ class ExperimentParser {
     };
     termSpp("spp_edge", b.sppEdge, b.sppEdgeAuto);
     termSpp("spp_boundary", b.sppBoundary, b.sppBoundaryAuto);
+    b.sppBoundaryCamera = b.sppBoundary, b.sppBoundaryCameraAuto = b.sppBoundaryAuto;
+    if (o.has("spp_boundary_camera")) {
+      b.sppBoundaryCameraAuto = false;
+      termSpp("spp_boundary_camera", b.sppBoundaryCamera, b.sppBoundaryCameraAuto);
+    }
     if (o.has("terms")) parseTerms(o.field("terms"));
     if (o.has("antithetic")) b.antithetic = o.field("antithetic").oneOf({"auto", "on", "off"});
     if (o.has("nee")) b.nee = readNeeMode(o.field("nee"));

@@ -100,8 +100,11 @@ struct BudgetSpec {
   uint32_t sppInterior = 16;
   uint32_t sppEdge = 16;
   uint32_t sppBoundary = 16;
+  // The path-length boundary's connections from the camera (splatted); left out, as sppBoundary
+  // (its count or "auto").
+  uint32_t sppBoundaryCamera = 16;
   // "auto": the term's samples come from a pilot at the first iteration (host/term_pilot.h).
-  bool sppEdgeAuto = false, sppBoundaryAuto = false;
+  bool sppEdgeAuto = false, sppBoundaryAuto = false, sppBoundaryCameraAuto = false;
   bool interior = true, edge = true, pathLength = true;  // the planner still drops terms that cannot contribute
   std::string antithetic = "auto";  // auto | on | off
   NeeMode nee = NeeMode::Auto;

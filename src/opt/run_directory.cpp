@@ -84,7 +84,10 @@ void writeRunInfo(const fs::path& directory, const RunInfo& info) {
   nlohmann::json j;
   j["experiment"] = fs::absolute(info.experiment).lexically_normal().string();
   j["memory_budget"] = info.memoryBudget;
-  if (info.pilotDone) j["term_pilot"] = {{"spp_edge", info.pilotSppEdge}, {"spp_boundary", info.pilotSppBoundary}};
+  if (info.pilotDone)
+    j["term_pilot"] = {{"spp_edge", info.pilotSppEdge},
+                       {"spp_boundary", info.pilotSppBoundary},
+                       {"spp_boundary_camera", info.pilotSppBoundaryCamera}};
   writeFileAtomic(directory / "run.json", j.dump(2) + "\n");
 }
 
@@ -98,6 +101,8 @@ RunInfo readRunInfo(const fs::path& directory) {
     if (j.contains("term_pilot")) {
       info.pilotSppEdge = j.at("term_pilot").at("spp_edge").get<uint32_t>();
       info.pilotSppBoundary = j.at("term_pilot").at("spp_boundary").get<uint32_t>();
+      // Runs from before the pilot timed the camera's connections apart gave them the boundary's.
+      info.pilotSppBoundaryCamera = j.at("term_pilot").value("spp_boundary_camera", info.pilotSppBoundary);
       info.pilotDone = true;
     }
   } catch (const nlohmann::json::exception& e) {

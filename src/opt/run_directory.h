@@ -17,10 +17,10 @@ namespace vktg {
 struct RunInfo {
   std::filesystem::path experiment;
   uint64_t memoryBudget = 0;
-  // Samples of the edge and path-length-boundary terms that the term pilot chose ("spp_edge" or
-  // "spp_boundary": "auto"; 0 where it has not run or the term keeps the experiment's): measured
-  // once, so that a resumed run uses the original's.
-  uint32_t pilotSppEdge = 0, pilotSppBoundary = 0;
+  // Samples of the edge and path-length-boundary terms that the term pilot chose ("spp_edge",
+  // "spp_boundary" or "spp_boundary_camera": "auto"; 0 where it has not run or the term keeps the
+  // experiment's): measured once, so that a resumed run uses the original's.
+  uint32_t pilotSppEdge = 0, pilotSppBoundary = 0, pilotSppBoundaryCamera = 0;
   bool pilotDone = false;
 };
 

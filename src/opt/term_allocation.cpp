@@ -90,6 +90,7 @@ TermAllocation allocateTermSamples(const std::vector<TermPilotRuns>& runs, uint3
     seconds += t.fixedSeconds + t.sampleSeconds, allocatedSeconds += t.fixedSeconds + t.sampleSeconds * x;
     if (t.term == "edges") a.sppEdge = t.spp;
     if (t.term == "boundary") a.sppBoundary = t.spp;
+    if (t.term == "boundary-camera") a.sppBoundaryCamera = t.spp;
   }
   a.varianceRatio = variance > 0 ? allocatedVariance / variance : 1.0;
   a.secondsRatio = seconds > 0 ? allocatedSeconds / seconds : 1.0;

@@ -1,5 +1,6 @@
 // Samples for each term of a loss gradient, chosen by a measured pilot. The gradient is a sum of
-// independent estimates (interior, edges, path-length boundary), so its variance is the sum of
+// independent estimates (interior, edges, and the path-length boundary's two: connections from path
+// vertices and from the camera), so its variance is the sum of
 // theirs, V_i / x_i for a term given x_i times the reference samples (the interior term's). Its
 // time is Σ (f_i + P_i x_i): a fixed part per render (launches, submissions) and a part per sample.
 // The variance of a gradient of given time is least when x_i ∝ sqrt(V_i / P_i) (a Lagrange
@@ -22,7 +23,9 @@ struct TermPilotRound {
 };
 
 struct TermPilotRuns {
-  std::string term;  // "interior", "edges", "boundary"
+  // "interior", "edges", "boundary" (the path-length boundary's connections from path vertices),
+  // "boundary-camera" (its connections from the camera, splatted)
+  std::string term;
   std::vector<TermPilotRound> rounds;
 };
 
@@ -35,7 +38,8 @@ struct TermCost {
 };
 
 struct TermAllocation {
-  uint32_t sppEdge = 0, sppBoundary = 0;  // 0: the term did not run in the pilot (keep the experiment's)
+  // 0: the term did not run in the pilot (keep the experiment's)
+  uint32_t sppEdge = 0, sppBoundary = 0, sppBoundaryCamera = 0;
   std::vector<TermCost> terms;
   // Predicted variance of a gradient at the allocation, relative to every term at the interior's
   // samples (the same weighting), and its predicted seconds relative to theirs.
@@ -70,8 +74,8 @@ inline constexpr double kTermPilotShareFactor = 1.5;
 // their variances), so that parameters of different units count alike, as Adam's per-parameter
 // scaling sees them. A term's variance comes from its pairs of rounds at equal samples, scaled to
 // the reference; its time model from all its rounds (fitPilotTimes). Needs the interior term among
-// `runs` with variance > 0; otherwise the allocation keeps the experiment's (sppEdge = sppBoundary =
-// 0) and says why.
+// `runs` with variance > 0; otherwise the allocation keeps the experiment's (every count 0) and says
+// why.
 TermAllocation allocateTermSamples(const std::vector<TermPilotRuns>& runs, uint32_t sppInterior);
 
 }  // namespace vktg
