@@ -53,6 +53,20 @@ void GradientAccumulator::download() {
   m_buffer.download(m_context, m_host.data(), m_host.size() * sizeof(int64_t), 0, m_readback ? &m_readback : nullptr);
 }
 
+void GradientAccumulator::recordClear(VkCommandBuffer cmd) const {
+  vkCmdFillBuffer(cmd, m_buffer.handle(), 0, VK_WHOLE_SIZE, 0);
+}
+
+void GradientAccumulator::recordCopyBack(VkCommandBuffer cmd) const {
+  if (!m_readback) return;  // the host reads m_buffer itself
+  VkBufferCopy region{0, 0, m_buffer.size()};
+  vkCmdCopyBuffer(cmd, m_buffer.handle(), m_readback.handle(), 1, &region);
+}
+
+void GradientAccumulator::readBack() {
+  (m_readback ? m_readback : m_buffer).download(m_context, m_host.data(), m_host.size() * sizeof(int64_t));
+}
+
 double GradientAccumulator::largestMagnitude() const {
   double largest = 0;
   for (int64_t v : m_host) largest = std::max(largest, std::abs(double(v)));

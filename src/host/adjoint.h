@@ -30,6 +30,12 @@ class GradientAccumulator {
   void clear();
   // Copies the accumulators to the host; read() and largestMagnitude() use that copy.
   void download();
+  // The same two steps recorded into a render's own commands (no submission of their own): the
+  // clear before its first pass, the copy to where the host reads it after its last; readBack()
+  // then takes the host's copy once that submission has finished.
+  void recordClear(VkCommandBuffer cmd) const;
+  void recordCopyBack(VkCommandBuffer cmd) const;
+  void readBack();
   // The accumulated gradient, divided by `scale`, with respect to `scene`'s quantities.
   SceneGradient read(const Scene& scene, double scale) const;
   // The largest accumulator magnitude, in units of the accumulator (to choose the next scale).

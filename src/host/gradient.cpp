@@ -351,16 +351,24 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
   // Views a render can hold together go in one group, each with its adjoint images stacked as
   // the render stacks the views' images.
   const std::vector<std::vector<size_t>> groups = viewGroups(views, options.batchViews);
-  std::vector<Buffer> adjointBuffers;
-  for (const std::vector<size_t>& group : groups) {
+  // The images go where the host maps them, or to staging buffers that each group's first render
+  // copies from: no allocation once the buffers have their size, no submission of their own.
+  state.images.resize(std::max(state.images.size(), groups.size()));
+  state.imageStaging.resize(state.images.size());
+  std::vector<const Buffer*> staged(groups.size(), nullptr);
+  for (size_t g = 0; g < groups.size(); ++g) {
     std::vector<float> flat;
-    for (size_t layer = 0; layer < views[group.front()].adjoint->layers.size(); ++layer)
-      for (size_t v : group) {
+    for (size_t layer = 0; layer < views[groups[g].front()].adjoint->layers.size(); ++layer)
+      for (size_t v : groups[g]) {
         const std::vector<float>& pixels = views[v].adjoint->layers.at(layer).pixels;
         flat.insert(flat.end(), pixels.begin(), pixels.end());
       }
-    adjointBuffers.emplace_back(context, std::max<size_t>(16, flat.size() * sizeof(float)), MemoryKind::Device, "adjoint.image");
-    adjointBuffers.back().upload(context, flat.data(), flat.size() * sizeof(float));
+    const size_t bytes = std::max<size_t>(16, flat.size() * sizeof(float));
+    Buffer& image = grownBuffer(context, state.images[g], bytes, MemoryKind::Device, "adjoint.image");
+    Buffer& destination =
+        image.mapped() ? image : grownBuffer(context, state.imageStaging[g], image.size(), MemoryKind::Readback, "adjoint.image.staging");
+    destination.upload(context, flat.data(), flat.size() * sizeof(float));
+    if (!image.mapped()) staged[g] = &destination;
   }
   // A first scale: contributions are adjoint values times derivatives of sample values, so scale by
   // the largest adjoint value (a power of two, to keep every scale exact).
@@ -376,30 +384,39 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
   int zeroRetries = 0;
   // A pass that overflowed the accumulators is redone with a coarser scale, one whose largest entry
   // is too coarse with a finer one: both follow from deterministic sums, so a rerun repeats them.
+  // The renders of an attempt: per group of views, one per term.
+  std::vector<std::pair<size_t, TermPass>> renders;
+  for (size_t g = 0; g < groups.size(); ++g)
+    for (const TermPass& pass : termPasses(plans[groups[g].front()], views[groups[g].front()].setup.gate, options,
+                                           sharePaths[groups[g].front()]))
+      renders.push_back({g, pass});
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
     result.attempts++;
-    state.accumulator->clear();
     RenderStats stats;
     result.passMilliseconds.clear();
-    for (size_t g = 0; g < groups.size(); ++g) {
-      const std::vector<size_t>& group = groups[g];
-      const AdjointView& first = views[group.front()];
-      AdjointTarget target{&adjointBuffers[g], state.accumulator.get(), state.scale, targets};
-      for (TermPass pass : termPasses(plans[group.front()], first.setup.gate, options, sharePaths[group.front()])) {
-        RenderSetup termSetup = first.setup;
-        if (pass.spp > 0) termSetup.settings.spp = pass.spp;
-        pass.options.adjoint = &target;
-        const RenderResult r = renderGroup(renderer, scene, views, group, termSetup, pass.options);
-        addStats(stats, r.stats);
-        for (const auto& [name, ms] : r.passMilliseconds) result.passMilliseconds[std::string(termName(pass.term)) + "/" + name] += ms;
-      }
+    // The first render clears the accumulators and the last copies them for the host, in their own
+    // submissions: a gradient waits on the device once per render and batch, no more.
+    if (renders.empty()) state.accumulator->clear();
+    for (size_t k = 0; k < renders.size(); ++k) {
+      auto [g, pass] = renders[k];
+      const AdjointView& first = views[groups[g].front()];
+      const bool groupsFirst = k == 0 || renders[k - 1].first != g;
+      AdjointTarget target{&state.images[g], state.accumulator.get(), state.scale, targets, k == 0, k + 1 == renders.size(),
+                           groupsFirst ? staged[g] : nullptr};
+      RenderSetup termSetup = first.setup;
+      if (pass.spp > 0) termSetup.settings.spp = pass.spp;
+      pass.options.adjoint = &target;
+      const RenderResult r = renderGroup(renderer, scene, views, groups[g], termSetup, pass.options);
+      addStats(stats, r.stats);
+      for (const auto& [name, ms] : r.passMilliseconds) result.passMilliseconds[std::string(termName(pass.term)) + "/" + name] += ms;
     }
     result.stats = stats;
     if (stats.gradientOverflows > 0) {
       state.scale = std::ldexp(state.scale, -20);
       continue;
     }
-    state.accumulator->download();
+    if (renders.empty()) state.accumulator->download();
+    else state.accumulator->readBack();
     const double largest = state.accumulator->largestMagnitude();
     // All zero: either no sample depends on θ, or every contribution rounded to 0 at this scale.
     // Two much finer scales tell them apart; a gradient still zero then is one.

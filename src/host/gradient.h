@@ -122,6 +122,9 @@ RenderResult renderGroup(Renderer& renderer, DeviceScene& scene, const std::vect
 struct AdjointState {
   std::unique_ptr<GradientAccumulator> accumulator;
   double scale = 0;  // 0: not chosen yet
+  // Per group of views rendered together (viewGroups): its adjoint images on the device, and where
+  // the host writes them when it cannot map that memory. Kept between gradients, grow-only.
+  std::vector<Buffer> images, imageStaging;
 };
 
 struct LossGradient {

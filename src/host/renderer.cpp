@@ -110,16 +110,10 @@ struct Renderer::Impl {
   std::unique_ptr<FrameResources> frame;
   std::optional<ChunkedBuffer> film;
   uint64_t filmFloats = 0;
-  Buffer filmReadback;  // grow-only: where a film the host cannot read directly is copied to
-
-  // The staging buffer for downloading `bytes` of `chunk` (none where the host reads it directly):
-  // kept between renders, since an optimisation reads a film back every iteration.
-  Buffer* filmStaging(const Buffer& chunk, VkDeviceSize bytes) {
-    if (chunk.hostReadable()) return nullptr;
-    if (!filmReadback || filmReadback.size() < bytes)
-      filmReadback = Buffer(context, bytes, MemoryKind::Readback, "film.readback");
-    return &filmReadback;
-  }
+  // Kept between renders (an optimisation renders every iteration), grow-only: the frame block,
+  // which the first batch's commands write, and where a film or the counters are copied for the
+  // host when it cannot read them directly, by the last batch's commands.
+  Buffer frameBlock, filmReadback, countersReadback;
 
   FrameResources& frameResources(const FrameResources::Key& key) {
     if (!frame || !(frame->key == key)) {
@@ -240,6 +234,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   if (splat && totalPaths >= (uint64_t(1) << 32))
     throw Error(std::string(edges ? "--spp-edge: " : "--spp-boundary: ") + std::to_string(totalPaths) +
                 " splatted samples are too many for one render");
+  // The first batch zeroes what the render accumulates into and the last copies it out.
+  if (totalPaths == 0) throw Error("internal: a render needs at least one sample");
   if (pixels * settings.spp > (uint64_t(1) << 32) * 8)
     throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
 
@@ -334,9 +330,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     frame.adjointInfo = glm::uvec4(g.firstPointLight, 0, 0, 0);
     frame.adjointScale = glm::vec4(float(adjoint->scale), 0, 0, 0);
   }
-  Buffer frameBuffer(context, sizeof frame + records.size() * sizeof(glm::vec4), MemoryKind::Device, "frame");
-  frameBuffer.upload(context, &frame, sizeof frame);
-  frameBuffer.upload(context, records.data(), records.size() * sizeof(glm::vec4), sizeof frame);
+  const Buffer& frameBuffer =
+      grownBuffer(context, m_impl->frameBlock, sizeof frame + records.size() * sizeof(glm::vec4), MemoryKind::Device, "frame");
 
   BindingTable table;
   table.setScene(gpuScene);
@@ -418,7 +413,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   VkDescriptorSet ds = set.get();
 
   const uint32_t maxDepth = settings.maxDepth;
-  PassProfiler profiler(context, 8 + 6 * maxDepth, options.profile);
+  PassProfiler profiler(context, 9 + 6 * maxDepth, options.profile);  // + resolve in the last batch
   CommandBuffer cmdBuffer(context, "render batch");
   VkCommandBuffer cmd = cmdBuffer.get();
 
@@ -447,15 +442,31 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     zeroCounter(gpu::kCounterShadow);
   };
 
-  // Statistics counters accumulate over all batches: zero them once.
-  {
-    CommandBuffer init(context, "render init");
-    init.begin();
-    vkCmdFillBuffer(init.get(), wave.counters.handle(), 0, VK_WHOLE_SIZE, 0);
-    for (const Buffer& b : film.chunks) vkCmdFillBuffer(init.get(), b.handle(), 0, VK_WHOLE_SIZE, 0);
-    init.end();
-    context.submitAndWait(init.get());
-  }
+  // What the host reads after the last batch, where it cannot read the device's buffers directly:
+  // copied by that batch's own commands (no submission of its own).
+  const bool countersCopied = !wave.counters.mapped();
+  const bool filmCopied = !adjoint && !film.chunks.front().hostReadable();
+  const uint64_t countersBytes = gpu::kCounterCount * sizeof(uint32_t);
+  if (countersCopied) grownBuffer(context, m_impl->countersReadback, countersBytes, MemoryKind::Readback, "counters.readback");
+  if (filmCopied) grownBuffer(context, m_impl->filmReadback, filmBytes, MemoryKind::Readback, "film.readback");
+  // The last batch's commands after its paths: the film's resolve and the copies for the host.
+  auto finishRender = [&] {
+    if (resolve != VK_NULL_HANDLE) {
+      pushArgs(cmd, layout, 0, 0, 0, uint32_t(filmElements));
+      dispatch("resolve", resolve, groupsFor(filmElements));
+    }
+    if (adjoint && adjoint->copyBack) adjoint->gradient->recordCopyBack(cmd);
+    if (countersCopied) {
+      VkBufferCopy region{0, 0, countersBytes};
+      vkCmdCopyBuffer(cmd, wave.counters.handle(), m_impl->countersReadback.handle(), 1, &region);
+    }
+    const uint64_t perChunk = uint64_t(1) << film.shift;
+    for (size_t c = 0; filmCopied && c < film.chunks.size(); ++c) {
+      const uint64_t first = c * perChunk, count = std::min<uint64_t>(perChunk, filmFloats - first);
+      VkBufferCopy region{0, first * sizeof(float), count * sizeof(float)};
+      vkCmdCopyBuffer(cmd, film.chunks[c].handle(), m_impl->filmReadback.handle(), 1, &region);
+    }
+  };
 
   auto start = std::chrono::steady_clock::now();
   uint64_t done = 0;
@@ -466,6 +477,19 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     uint32_t firstLinear = uint32_t(done - uint64_t(firstSample) * pixels);
     cmdBuffer.begin();
     profiler.reset(cmd);
+    if (done == 0) {
+      // The render's own state, in its first submission: the frame block (at most 64 KiB per
+      // update), and the statistics counters and film, which accumulate over all batches.
+      recordUpdate(cmd, frameBuffer, &frame, sizeof frame, 0);
+      recordUpdate(cmd, frameBuffer, records.data(), records.size() * sizeof(glm::vec4), sizeof frame);
+      vkCmdFillBuffer(cmd, wave.counters.handle(), 0, VK_WHOLE_SIZE, 0);
+      for (const Buffer& b : film.chunks) vkCmdFillBuffer(cmd, b.handle(), 0, VK_WHOLE_SIZE, 0);
+      if (adjoint && adjoint->clearFirst) adjoint->gradient->recordClear(cmd);
+      if (adjoint && adjoint->imageStaging) {
+        VkBufferCopy region{0, 0, std::min(adjoint->imageStaging->size(), adjoint->image->size())};
+        vkCmdCopyBuffer(cmd, adjoint->imageStaging->handle(), adjoint->image->handle(), 1, &region);
+      }
+    }
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &ds, 0, nullptr);
     vkCmdFillBuffer(cmd, wave.counters.handle(), 0, gpu::kCounterExtensionRays * sizeof(uint32_t), 0);
     vkCmdFillBuffer(cmd, wave.pathAccum.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -500,6 +524,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
       pushArgs(cmd, layout, 0, 0, 0, active * slotsPerSample);
       dispatch(finishName.c_str(), finish, groupsFor(uint64_t(active) * slotsPerSample));
     }
+    if (done + active == totalPaths) finishRender();
     hostReadBarrier(cmd);  // the counters (and a mapped film) are read by the host after the fence
     cmdBuffer.end();
     context.submitAndWait(cmd);
@@ -509,21 +534,10 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     if (options.progress) options.progress(double(done) / double(totalPaths));
     throwIfInterrupted();
   }
-  if (resolve != VK_NULL_HANDLE) {
-    cmdBuffer.begin();
-    profiler.reset(cmd);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &ds, 0, nullptr);
-    pushArgs(cmd, layout, 0, 0, 0, uint32_t(filmElements));
-    dispatch("resolve", resolve, groupsFor(filmElements));
-    hostReadBarrier(cmd);
-    cmdBuffer.end();
-    context.submitAndWait(cmd);
-    profiler.collect();
-  }
   result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   std::vector<uint32_t> counters(gpu::kCounterCount);
-  wave.counters.download(context, counters.data(), counters.size() * sizeof(uint32_t));
+  (countersCopied ? m_impl->countersReadback : wave.counters).download(context, counters.data(), countersBytes);
   RenderStats& stats = result.stats;
   stats.paths = totalPaths;
   stats.extensionRays = counters[gpu::kCounterExtensionRays];
@@ -549,12 +563,14 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   if (adjoint) return result;
 
   std::vector<float> resolved(filmFloats), mean(filmElements), variance(filmElements);
-  size_t perChunk = size_t(1) << film.shift;
-  for (size_t c = 0; c < film.chunks.size(); ++c) {
-    size_t first = c * perChunk;
-    size_t count = std::min<size_t>(perChunk, filmFloats - first);
-    film.chunks[c].download(context, resolved.data() + first, count * sizeof(float), 0,
-                            m_impl->filmStaging(film.chunks[c], count * sizeof(float)));
+  if (filmCopied) {
+    m_impl->filmReadback.download(context, resolved.data(), filmBytes);
+  } else {
+    const size_t perChunk = size_t(1) << film.shift;
+    for (size_t c = 0; c < film.chunks.size(); ++c) {
+      const size_t first = c * perChunk, count = std::min<size_t>(perChunk, filmFloats - first);
+      film.chunks[c].download(context, resolved.data() + first, count * sizeof(float));
+    }
   }
   for (size_t i = 0; i < filmElements; ++i) {
     mean[i] = resolved[gpu::kFilmFloatsPerElement * i];

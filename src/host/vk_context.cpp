@@ -350,6 +350,7 @@ void VulkanContext::submitAndWait(VkCommandBuffer cmd) const {
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cmd;
+  ++m_submissions;
   VkResult result = m_faults.nextSubmission();
   const bool injected = result != VK_SUCCESS;
   if (!injected) result = vkQueueSubmit(m_queue, 1, &submit, fence);
@@ -372,6 +373,7 @@ void VulkanContext::submitAndWait(VkCommandBuffer cmd) const {
 }
 
 VkResult VulkanContext::allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory) const {
+  ++m_allocations;
   VkResult injected = m_faults.nextAllocation();
   if (injected != VK_SUCCESS) return injected;
   if (m_faults.nextAllocationLeaks()) {

@@ -91,6 +91,10 @@ class VulkanContext {
   void submitAndWait(VkCommandBuffer cmd) const;
   // vkAllocateMemory (with VKTG_INJECT_FAULT's allocation faults and leak).
   VkResult allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory) const;
+  // Round trips and allocations so far: each costs a GPU's host tens of microseconds or more, which
+  // small renders feel (tests count them per render).
+  uint64_t submissionCount() const { return m_submissions.load(); }
+  uint64_t allocationCount() const { return m_allocations.load(); }
 
   // Validation messages recorded so far (warnings and errors); tests fail on any.
   std::vector<std::string> takeValidationMessages();
@@ -128,6 +132,7 @@ class VulkanContext {
   std::mutex m_messageMutex;
   std::vector<std::string> m_messages;
   std::atomic<uint64_t> m_messageCount{0};
+  mutable std::atomic<uint64_t> m_submissions{0}, m_allocations{0};
 };
 
 }  // namespace vktg

@@ -1,9 +1,11 @@
 #include "host/vk_resources.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "host/forced_choice.h"
 #include "host/vk_check.h"
+#include "vktg/error.h"
 
 namespace vktg {
 
@@ -175,6 +177,21 @@ void computeBarrier(VkCommandBuffer cmd) {
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
                            VK_PIPELINE_STAGE_TRANSFER_BIT,
                        0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+Buffer& grownBuffer(const VulkanContext& context, Buffer& buffer, VkDeviceSize bytes, MemoryKind kind,
+                    const std::string& name) {
+  if (!buffer || buffer.size() < bytes) buffer = Buffer(context, bytes, kind, name);
+  return buffer;
+}
+
+void recordUpdate(VkCommandBuffer cmd, const Buffer& buffer, const void* data, size_t bytes, size_t offset) {
+  constexpr size_t kMaxUpdateBytes = 65536;
+  if (bytes % 4 != 0 || offset % 4 != 0 || offset + bytes > buffer.size())
+    throw Error("internal: a recorded update of " + buffer.name() + " must be whole words inside it");
+  for (size_t at = 0; at < bytes; at += kMaxUpdateBytes)
+    vkCmdUpdateBuffer(cmd, buffer.handle(), offset + at, std::min(kMaxUpdateBytes, bytes - at),
+                      static_cast<const char*>(data) + at);
 }
 
 void hostReadBarrier(VkCommandBuffer cmd) {

@@ -135,9 +135,18 @@ class CommandBuffer {
   VkCommandBuffer m_cmd = VK_NULL_HANDLE;
 };
 
+// `buffer`, made anew (contents lost) when it does not exist or holds fewer than `bytes`: for state
+// kept between renders that only ever grows.
+Buffer& grownBuffer(const VulkanContext& context, Buffer& buffer, VkDeviceSize bytes, MemoryKind kind,
+                    const std::string& name);
+
 // Full compute-to-compute (and indirect-argument, transfer) barrier between passes.
 void computeBarrier(VkCommandBuffer cmd);
 // Compute and transfer writes made visible to the host's reads after the submission's fence.
 void hostReadBarrier(VkCommandBuffer cmd);
+// Records a write of `bytes` of host data at `offset` of `buffer` into `cmd` (vkCmdUpdateBuffer, in
+// pieces of at most 64 KiB; sizes and offsets multiples of 4): small per-render state without a
+// staging buffer or a submission of its own.
+void recordUpdate(VkCommandBuffer cmd, const Buffer& buffer, const void* data, size_t bytes, size_t offset);
 
 }  // namespace vktg
