@@ -394,8 +394,8 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     result.attempts++;
     RenderStats stats;
     result.passMilliseconds.clear();
-    // The first render clears the accumulators and the last copies them for the host, in their own
-    // submissions: a gradient waits on the device once per render and batch, no more.
+    // The first render's commands clear the accumulators and the last one's copy them for the host:
+    // a gradient waits on the device once per render and batch, no more.
     if (renders.empty()) state.accumulator->clear();
     for (size_t k = 0; k < renders.size(); ++k) {
       auto [g, pass] = renders[k];

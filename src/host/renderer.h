@@ -29,7 +29,7 @@ struct AdjointTarget {
   double scale = 1;               // accumulators add round(value * scale); a power of two
   uint32_t targets = 0;           // kAdjoint* bits: what to differentiate
   // The first render of a gradient clears the accumulators and the last copies them for the host,
-  // each in its own submissions (GradientAccumulator::recordClear, recordCopyBack).
+  // each with its own commands (GradientAccumulator::recordClear, recordCopyBack).
   bool clearFirst = false, copyBack = false;
   // Where the host wrote the image when it cannot map `image`'s memory: this render's first commands
   // copy it over (the first render of each image's views).
