@@ -445,7 +445,9 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   // What the host reads after the last batch, where it cannot read the device's buffers directly:
   // copied by that batch's own commands (no submission of its own).
   const bool countersCopied = !wave.counters.mapped();
-  const bool filmCopied = !adjoint && !film.chunks.front().hostReadable();
+  // (A film of several chunks, beyond a storage buffer's range, goes back a chunk at a time through
+  // one chunk's staging: a copy of all of it would need as much host-visible memory again.)
+  const bool filmCopied = !adjoint && !film.chunks.front().hostReadable() && film.single();
   const uint64_t countersBytes = gpu::kCounterCount * sizeof(uint32_t);
   if (countersCopied) grownBuffer(context, m_impl->countersReadback, countersBytes, MemoryKind::Readback, "counters.readback");
   if (filmCopied) grownBuffer(context, m_impl->filmReadback, filmBytes, MemoryKind::Readback, "film.readback");
@@ -460,11 +462,9 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
       VkBufferCopy region{0, 0, countersBytes};
       vkCmdCopyBuffer(cmd, wave.counters.handle(), m_impl->countersReadback.handle(), 1, &region);
     }
-    const uint64_t perChunk = uint64_t(1) << film.shift;
-    for (size_t c = 0; filmCopied && c < film.chunks.size(); ++c) {
-      const uint64_t first = c * perChunk, count = std::min<uint64_t>(perChunk, filmFloats - first);
-      VkBufferCopy region{0, first * sizeof(float), count * sizeof(float)};
-      vkCmdCopyBuffer(cmd, film.chunks[c].handle(), m_impl->filmReadback.handle(), 1, &region);
+    if (filmCopied) {
+      VkBufferCopy region{0, 0, filmBytes};
+      vkCmdCopyBuffer(cmd, film.chunks.front().handle(), m_impl->filmReadback.handle(), 1, &region);
     }
   };
 
@@ -569,7 +569,10 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     const size_t perChunk = size_t(1) << film.shift;
     for (size_t c = 0; c < film.chunks.size(); ++c) {
       const size_t first = c * perChunk, count = std::min<size_t>(perChunk, filmFloats - first);
-      film.chunks[c].download(context, resolved.data() + first, count * sizeof(float));
+      Buffer* staging = film.chunks[c].hostReadable() ? nullptr
+                                                      : &grownBuffer(context, m_impl->filmReadback, count * sizeof(float),
+                                                                     MemoryKind::Readback, "film.readback");
+      film.chunks[c].download(context, resolved.data() + first, count * sizeof(float), 0, staging);
     }
   }
   for (size_t i = 0; i < filmElements; ++i) {
