@@ -34,6 +34,7 @@
 // and the boundary term is all of it (dL/dc - 1 = -1 on the circle: Delta W(s) rho I h^3 d_s^-6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -171,8 +172,9 @@ TEST(GradBoundary, PerspectiveEmitterSeenDirectly) {
 }
 
 // The term's two estimators run apart (as the term pilot of `vktg optimize` times them): each alone
-// gives its own part, the two add up to the term exactly (same seeds), and the connections from the
-// camera take their own sample count. Max depth 3, so that both run behind the pinhole.
+// gives its own part, the two add up to the term (same seeds; to float rounding, since splatted
+// samples reach the film by float atomics in no fixed order), and the connections from the camera
+// take their own sample count. Max depth 3, so that both run behind the pinhole.
 TEST(GradBoundary, EstimatorsRunApartAddUpToTheTerm) {
   Scene scene = perspectivePlaneScene(4, 61, 3.7, 4.0, 3);
   scene.pointLights[0].position = {0.5f, 0.3f, 1.5f};
@@ -198,9 +200,12 @@ TEST(GradBoundary, EstimatorsRunApartAddUpToTheTerm) {
   const std::vector<float>& a = perPixel.pathLength.derivatives.at(0).layers.at(0).pixels;
   const std::vector<float>& b = fromCamera.pathLength.derivatives.at(0).layers.at(0).pixels;
   ASSERT_EQ(sum.size(), a.size());
-  double camera = 0;
+  double camera = 0, largest = 0;
+  for (float x : sum) largest = std::max(largest, double(std::abs(x)));
   for (size_t i = 0; i < sum.size(); ++i) {
-    EXPECT_EQ(sum[i], a[i] + b[i]) << "pixel " << i;
+    // A float sum of a few thousand splats in another order: a relative 1e-4 is far above its rounding
+    // and far below any part of the term gone missing.
+    EXPECT_NEAR(sum[i], double(a[i]) + b[i], 1e-4 * (std::abs(a[i]) + std::abs(b[i]) + 1e-3 * largest)) << "pixel " << i;
     camera += std::abs(b[i]);
   }
   EXPECT_GT(camera, 0.0) << "the camera's connections carry this scene's jumps";
