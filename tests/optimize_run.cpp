@@ -173,10 +173,10 @@ TEST(OptimizeResume, RunInterruptedBeforeItsFirstIterationResumes) {
 }
 
 // "spp_edge" and "spp_boundary": "auto" (which "spp_boundary_camera" follows when left out). The
-// term pilot runs once, at the first iteration, and its
-// choice goes to run.json; a run interrupted after it and resumed uses that choice without a second
-// pilot, and its log and θ are bit for bit those of a run given the chosen samples as numbers from
-// the start (the pilot's random numbers and accumulators are its own).
+// term pilot runs once, at the first iteration, and its choice goes to run.json; a run interrupted
+// after it and resumed uses that choice without a second pilot, and its log and θ are bit for bit
+// those of a run given the chosen samples as numbers from the start (the pilot's random numbers and
+// accumulators are its own).
 TEST(OptimizeTermPilot, ChoosesTermSamplesOnceAndTheRunIsThatOfItsChoice) {
   constexpr uint32_t kIterations = 4;
   TempDir dir;

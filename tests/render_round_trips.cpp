@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -26,6 +27,12 @@ namespace {
 
 Scene sensorScene() {
   return loadScene(std::filesystem::path(VKTG_SOURCE_DIR) / "tests/data/point_sensor_heightfield.json");
+}
+
+// The staged case proves something only where device memory is then really unmapped.
+void expectMemory(const VulkanContext& context, const std::string& memory) {
+  const Buffer probe(context, 16, MemoryKind::Device, "probe");
+  EXPECT_EQ(probe.mapped() == nullptr, memory == "staged") << memory;
 }
 
 struct Counted {
@@ -44,6 +51,7 @@ Counted counted(const VulkanContext& context, F&& f) {
 RenderResult countedRender(const char* memory, Counted& count) {
   test::ScopedEnv env("VKTG_DEVICE_MEMORY", memory);
   VulkanContext& context = testContext();
+  expectMemory(context, memory);
   const Scene scene = sensorScene();
   Renderer renderer(context);
   DeviceScene device(context, scene);
@@ -80,6 +88,7 @@ TEST(RenderRoundTrips, ARenderWaitsOncePerBatchAndAllocatesNothing) {
 LossGradient countedGradient(const char* memory, Counted& count) {
   test::ScopedEnv env("VKTG_DEVICE_MEMORY", memory);
   VulkanContext& context = testContext();
+  expectMemory(context, memory);
   const Scene scene = sensorScene();
   std::vector<uint32_t> all(scene.parameters.size());
   for (uint32_t k = 0; k < all.size(); ++k) all[k] = k;

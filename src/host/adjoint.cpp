@@ -1,5 +1,6 @@
 #include "host/adjoint.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "vktg/error.h"
@@ -37,21 +38,9 @@ GradientAccumulator::GradientAccumulator(const VulkanContext& context, const Gra
       m_host(layout.total, 0) {
   if (!m_buffer.hostReadable())
     m_readback = Buffer(context, m_buffer.size(), MemoryKind::Readback, "adjoint.gradient.readback");
-  clear();
 }
 
-void GradientAccumulator::clear() {
-  CommandBuffer cmd(m_context, "clear adjoint.gradient");
-  cmd.begin();
-  vkCmdFillBuffer(cmd.get(), m_buffer.handle(), 0, VK_WHOLE_SIZE, 0);
-  computeBarrier(cmd.get());  // before the passes add into it
-  cmd.end();
-  m_context.submitAndWait(cmd.get());
-}
-
-void GradientAccumulator::download() {
-  m_buffer.download(m_context, m_host.data(), m_host.size() * sizeof(int64_t), 0, m_readback ? &m_readback : nullptr);
-}
+void GradientAccumulator::zero() { std::fill(m_host.begin(), m_host.end(), 0); }
 
 void GradientAccumulator::recordClear(VkCommandBuffer cmd) const {
   vkCmdFillBuffer(cmd, m_buffer.handle(), 0, VK_WHOLE_SIZE, 0);

@@ -27,15 +27,15 @@ uint32_t adjointTargets(const ParameterModel& model);
 class GradientAccumulator {
  public:
   GradientAccumulator(const VulkanContext& context, const GradientLayout& layout);
-  void clear();
-  // Copies the accumulators to the host; read() and largestMagnitude() use that copy.
-  void download();
-  // The same two steps recorded into a render's own commands (no submission of their own): the
-  // clear before its first pass, the copy to where the host reads it after its last; readBack()
-  // then takes the host's copy once that submission has finished.
+  // The device's accumulators are cleared and copied for the host by the renders of a gradient, in
+  // their own commands (no submission of their own): the clear before the first render's first pass,
+  // the copy after the last one's last. readBack() takes the host's copy once that submission has
+  // finished; read() and largestMagnitude() use it. zero(): the host's copy of a gradient no render
+  // contributed to.
   void recordClear(VkCommandBuffer cmd) const;
   void recordCopyBack(VkCommandBuffer cmd) const;
   void readBack();
+  void zero();
   // The accumulated gradient, divided by `scale`, with respect to `scene`'s quantities.
   SceneGradient read(const Scene& scene, double scale) const;
   // The largest accumulator magnitude, in units of the accumulator (to choose the next scale).

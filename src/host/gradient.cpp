@@ -396,7 +396,6 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     result.passMilliseconds.clear();
     // The first render's commands clear the accumulators and the last one's copy them for the host:
     // a gradient waits on the device once per render and batch, no more.
-    if (renders.empty()) state.accumulator->clear();
     for (size_t k = 0; k < renders.size(); ++k) {
       auto [g, pass] = renders[k];
       const AdjointView& first = views[groups[g].front()];
@@ -415,7 +414,7 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
       state.scale = std::ldexp(state.scale, -20);
       continue;
     }
-    if (renders.empty()) state.accumulator->download();
+    if (renders.empty()) state.accumulator->zero();  // no term can contribute
     else state.accumulator->readBack();
     const double largest = state.accumulator->largestMagnitude();
     // All zero: either no sample depends on θ, or every contribution rounded to 0 at this scale.

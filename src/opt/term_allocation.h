@@ -1,12 +1,12 @@
 // Samples for each term of a loss gradient, chosen by a measured pilot. The gradient is a sum of
 // independent estimates (interior, edges, and the path-length boundary's two: connections from path
-// vertices and from the camera), so its variance is the sum of
-// theirs, V_i / x_i for a term given x_i times the reference samples (the interior term's). Its
-// time is Σ (f_i + P_i x_i): a fixed part per render (launches, submissions) and a part per sample.
-// The variance of a gradient of given time is least when x_i ∝ sqrt(V_i / P_i) (a Lagrange
-// multiplier on the time; the fixed parts are paid whatever x_i). The interior term keeps the
-// samples the experiment gives it and the others follow from it: a term whose samples buy little
-// variance (a heightfield's edges seen from above) gets few, a cheap and noisy one more.
+// vertices and from the camera), so its variance is the sum of theirs, V_i / x_i for a term given
+// x_i times the reference samples (the interior term's). Its time is Σ (f_i + P_i x_i): a fixed part
+// per render (launches, submissions) and a part per sample. The variance of a gradient of given
+// time is least when x_i ∝ sqrt(V_i / P_i) (a Lagrange multiplier on the time; the fixed parts are
+// paid whatever x_i). The interior term keeps the samples the experiment gives it and the others
+// follow from it: a term whose samples buy little variance (a heightfield's edges seen from above)
+// gets few, a cheap and noisy one more.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -64,9 +64,10 @@ inline constexpr uint32_t kTermPilotMaxFactor = 8;
 // at least: a launch-bound term (all fixed, within timing noise) would otherwise be given samples
 // as if they were free.
 inline constexpr double kTermPilotMinSampleShare = 0.1;
-// A path-length-boundary allocation within this factor of the interior's samples is set equal to
-// them: the per-pixel part then shares the interior term's paths, which costs less than the two
-// traced apart that the pilot timed.
+// An allocation for the path-length boundary's connections from path vertices ("boundary") within
+// this factor of the interior's samples is set equal to them: they then share the interior term's
+// paths, which costs less than the two traced apart that the pilot timed. Its connections from the
+// camera are splatted and share no paths.
 inline constexpr double kTermPilotShareFactor = 1.5;
 
 // The allocation from finished pilot runs (pure: no device). Each parameter k is weighted by
