@@ -174,10 +174,16 @@ TEST(GradBoundary, PerspectiveEmitterSeenDirectly) {
 // The term's two estimators run apart (as the term pilot of `vktg optimize` times them): each alone
 // gives its own part, the two add up to the term (same seeds; to float rounding, since splatted
 // samples reach the film by float atomics in no fixed order), and the connections from the camera
-// take their own sample count. Max depth 3, so that both run behind the pinhole.
+// take their own sample count. Max depth 3, so that both run behind the pinhole; a wall beside the
+// plane (out of the camera's view) gives the connections from path vertices interreflections to
+// place on the jumps, which a lone plane cannot have.
 TEST(GradBoundary, EstimatorsRunApartAddUpToTheTerm) {
   Scene scene = perspectivePlaneScene(4, 61, 3.7, 4.0, 3);
   scene.pointLights[0].position = {0.5f, 0.3f, 1.5f};
+  Shape wall;
+  wall.name = "wall";
+  addQuad(wall, {1.0f, -3.0f, 0.0f}, {1.0f, -3.0f, 1.5f}, {1.0f, 3.0f, 1.5f}, {1.0f, 3.0f, 0.0f});  // facing -x
+  scene.shapes.push_back(std::move(wall));
   GradientOptions options;
   options.interior = options.edges = false;
   options.sppBoundaryCamera = 8;
@@ -200,15 +206,18 @@ TEST(GradBoundary, EstimatorsRunApartAddUpToTheTerm) {
   const std::vector<float>& a = perPixel.pathLength.derivatives.at(0).layers.at(0).pixels;
   const std::vector<float>& b = fromCamera.pathLength.derivatives.at(0).layers.at(0).pixels;
   ASSERT_EQ(sum.size(), a.size());
-  double camera = 0, largest = 0;
+  double camera = 0, vertices = 0, largest = 0;
   for (float x : sum) largest = std::max(largest, double(std::abs(x)));
   for (size_t i = 0; i < sum.size(); ++i) {
     // A float sum of a few thousand splats in another order: a relative 1e-4 is far above its rounding
     // and far below any part of the term gone missing.
     EXPECT_NEAR(sum[i], double(a[i]) + b[i], 1e-4 * (std::abs(a[i]) + std::abs(b[i]) + 1e-3 * largest)) << "pixel " << i;
     camera += std::abs(b[i]);
+    vertices += std::abs(a[i]);
   }
+  // Both estimators carry part of the term here, so the sum checks each of them.
   EXPECT_GT(camera, 0.0) << "the camera's connections carry this scene's jumps";
+  EXPECT_GT(vertices, 0.0) << "the connections from path vertices carry the interreflections' jumps";
 }
 
 // Truncated gaussian gate (mu 2.8, sigma 0.3, support [2.4, 3.2]): the interior and boundary terms
