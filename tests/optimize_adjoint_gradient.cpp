@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "host/gradient.h"
+#include "host/interrupt.h"
 #include "support/render_test.h"
 #include "support/scoped_env.h"
 #include "vktg/parameter_model.h"
@@ -175,6 +176,47 @@ TEST(GradAdjoint, OverflowingAccumulatorsAreRescaled) {
   for (double g : reference.theta) largest = std::max(largest, std::abs(g));
   ASSERT_GT(largest, 0.0);
   for (size_t k = 0; k < names.size(); ++k) EXPECT_NEAR(rescaled.theta[k], reference.theta[k], 1e-6 * largest) << names[k];
+}
+
+// Ctrl-C during a retry (here the second of the three attempts above) must leave the scale the
+// gradient started from: an interrupted optimisation checkpoints it, and a resumed run repeats the
+// gradient from it, attempt for attempt. The scale of an interrupted attempt would start the resumed
+// gradient elsewhere.
+TEST(GradAdjoint, GradientInterruptedDuringARetryKeepsItsStartingScale) {
+  const Scene scene = roomScene();
+  const ParameterModel model = modelOf(scene, {"block_x", "bulb_y", "floor_albedo", "t0"});
+  std::vector<double> theta(model.size(), 0.0);
+  DeviceScene deviceScene(test::testRenderer().context(), model, theta, theta);
+  const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
+  const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
+  AdjointState settled;
+  lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), settled);
+  GradientOptions counting = options(8, 8);
+  uint32_t batches = 0;
+  counting.render.progress = [&](double) { ++batches; };
+  AdjointState fine;
+  fine.scale = std::ldexp(settled.scale, 60);
+  const LossGradient whole = lossGradient(test::testRenderer(), deviceScene, {view}, counting, fine);
+  ASSERT_EQ(whole.attempts, 3u);
+  ASSERT_EQ(batches % 3, 0u);
+  const uint32_t perAttempt = batches / 3;
+
+  GradientOptions interrupting = options(8, 8);
+  batches = 0;
+  interrupting.render.progress = [&](double) {
+    if (++batches == perAttempt + 1) requestInterrupt(2);  // the second attempt's first batch
+  };
+  AdjointState stopped;
+  stopped.scale = std::ldexp(settled.scale, 60);
+  EXPECT_THROW(lossGradient(test::testRenderer(), deviceScene, {view}, interrupting, stopped), Interrupted);
+  clearInterrupt();
+  EXPECT_EQ(batches, perAttempt + 1);
+  EXPECT_EQ(stopped.scale, std::ldexp(settled.scale, 60));
+  // Resumed from there, the gradient is the uninterrupted one, bit for bit.
+  const LossGradient resumed = lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), stopped);
+  EXPECT_EQ(resumed.attempts, 3u);
+  EXPECT_EQ(stopped.scale, fine.scale);
+  for (size_t k = 0; k < whole.theta.size(); ++k) EXPECT_EQ(resumed.theta[k], whole.theta[k]) << k;
 }
 
 // The accumulators reach the host directly where the device's memory is mapped and cached, through a

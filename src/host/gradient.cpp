@@ -370,17 +370,21 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     destination.upload(context, flat.data(), flat.size() * sizeof(float));
     if (!image.mapped()) staged[g] = &destination;
   }
+  // The scale this gradient's attempts use. The state takes it only when the gradient is done, so
+  // that one stopped part-way (Ctrl-C during a retry) leaves the scale of the last completed
+  // gradient, which the checkpoint keeps and from which a resumed run repeats the same attempts.
   // A first scale: contributions are adjoint values times derivatives of sample values, so scale by
   // the largest adjoint value (a power of two, to keep every scale exact).
-  if (!(state.scale > 0)) {
+  double scale = state.scale;
+  if (!(scale > 0)) {
     double largestAdjoint = 0;
     for (const AdjointView& view : views)
       for (const ImageLayer& layer : view.adjoint->layers)
         for (float a : layer.pixels) largestAdjoint = std::max(largestAdjoint, double(std::abs(a)));
-    state.scale = std::ldexp(1.0, int(kTargetBits) - 20 - (largestAdjoint > 0 ? int(std::ceil(std::log2(largestAdjoint))) : 0));
+    scale = std::ldexp(1.0, int(kTargetBits) - 20 - (largestAdjoint > 0 ? int(std::ceil(std::log2(largestAdjoint))) : 0));
   }
   const uint32_t targets = adjointTargets(*model);
-  const double startScale = state.scale;
+  const double startScale = scale;
   int zeroRetries = 0;
   // A pass that overflowed the accumulators is redone with a coarser scale, one whose largest entry
   // is too coarse with a finer one: both follow from deterministic sums, so a rerun repeats them.
@@ -400,7 +404,7 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
       auto [g, pass] = renders[k];
       const AdjointView& first = views[groups[g].front()];
       const bool groupsFirst = k == 0 || renders[k - 1].first != g;
-      AdjointTarget target{&state.images[g], state.accumulator.get(), state.scale, targets, k == 0, k + 1 == renders.size(),
+      AdjointTarget target{&state.images[g], state.accumulator.get(), scale, targets, k == 0, k + 1 == renders.size(),
                            groupsFirst ? staged[g] : nullptr};
       RenderSetup termSetup = first.setup;
       if (pass.spp > 0) termSetup.settings.spp = pass.spp;
@@ -411,7 +415,7 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     }
     result.stats = stats;
     if (stats.gradientOverflows > 0) {
-      state.scale = std::ldexp(state.scale, -20);
+      scale = std::ldexp(scale, -20);
       continue;
     }
     if (renders.empty()) state.accumulator->zero();  // no term can contribute
@@ -421,18 +425,18 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     // Two much finer scales tell them apart; a gradient still zero then is one.
     if (largest == 0 && zeroRetries < 2 && attempt + 1 < kAttempts) {
       ++zeroRetries;
-      state.scale = std::ldexp(state.scale, 30);
+      scale = std::ldexp(scale, 30);
       continue;
     }
-    if (largest == 0) state.scale = startScale;
-    const double next = powerOfTwoScale(largest, state.scale);
+    if (largest == 0) scale = startScale;
+    const double next = powerOfTwoScale(largest, scale);
     const bool tooCoarse = largest > 0 && largest < std::ldexp(1.0, int(kCoarsestBits));
     if (tooCoarse && attempt + 1 < kAttempts) {
-      state.scale = next;
+      scale = next;
       continue;
     }
-    result.scene = state.accumulator->read(scene.scene(), state.scale);
-    state.scale = largest > 0 ? next : state.scale;
+    result.scene = state.accumulator->read(scene.scene(), scale);
+    state.scale = largest > 0 ? next : scale;
     result.theta = model->chainRule(std::vector<double>(scene.theta().begin(), scene.theta().end()), result.scene);
     return result;
   }
