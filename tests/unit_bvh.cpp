@@ -355,6 +355,31 @@ TEST(BvhBuild, HundredThousandTrianglesBuildSound) {
   expectSoundStructure(bvh, soup);
 }
 
+// The SAH cost of a moved scene's tree, computed without a refit copy, is that of the refit copy to
+// the last bit (an optimisation rebuilds when it passes a threshold, so a resumed run must see the
+// same value). Small and large soups, a lone leaf, and motion large enough to change the cost.
+TEST(BvhRefit, SahCostWithoutACopyEqualsTheRefitTreesCost) {
+  std::mt19937 rng(29);
+  for (size_t n : {1, 3, 40, 5000}) {
+    SCOPED_TRACE("triangles: " + std::to_string(n));
+    const Soup soup = randomSoup(rng, n, 10.0f, 0.5f);
+    const Bvh bvh = buildBvh(soup);
+    Soup moved = leafOrder(soup, bvh);
+    for (BvhTriangle& t : moved) {
+      const glm::vec3 shift = randomVec(rng, -1.0f, 1.0f);
+      t.p0 += shift;
+      t.p1 += shift + randomVec(rng, -0.2f, 0.2f);
+      t.p2 += shift;
+    }
+    Bvh refit = bvh;
+    refitBvh(refit, moved);
+    EXPECT_EQ(refitSahCost(bvh, moved), bvhSahCost(refit));
+    EXPECT_EQ(refitSahCost(bvh, moved, 0.3f), bvhSahCost(refit, 0.3f));
+    if (n > 1) EXPECT_NE(refitSahCost(bvh, moved), bvhSahCost(bvh));
+    EXPECT_EQ(refitSahCost(bvh, leafOrder(soup, bvh)), bvhSahCost(bvh));
+  }
+}
+
 TEST(BvhTraversal, RandomSoupsMatchBruteForce) {
   std::mt19937 rng(1234);
   for (size_t n : {1, 2, 3, 5, 17, 100, 1000, 5000}) {

@@ -102,20 +102,20 @@ void DeviceScene::update(std::span<const double> theta, bool checkQuality) {
     runUpdatePasses(true);
     if (checkQuality) {
       // The host's own refit of the same tree at θ (deterministic), against its cost when built.
-      Scene now = m_model->sceneAt(theta);
-      PreparedScene flat;
-      std::vector<BvhTriangle> soup(m_prepared.triangleVerts.size());
+      // Only the vertices move: the whole scene at θ is made only to rebuild.
       std::vector<glm::vec3> vertices;
-      for (const Shape& s : now.shapes) vertices.insert(vertices.end(), s.positions.begin(), s.positions.end());
+      vertices.reserve(m_prepared.vertices.size());
+      for (uint32_t s = 0; s < m_scene.shapes.size(); ++s)
+        for (const glm::dvec3& p : m_model->shapePositions(theta, s)) vertices.emplace_back(p);
+      std::vector<BvhTriangle> soup(m_prepared.triangleVerts.size());
       for (size_t i = 0; i < soup.size(); ++i) {
         const glm::uvec4& ids = m_prepared.triangleVerts[i];
         soup[i] = {vertices[ids.x], vertices[ids.y], vertices[ids.z]};
       }
-      Bvh refit = m_prepared.bvh;
-      refitBvh(refit, soup);
-      m_lastSahRatio = bvhSahCost(refit) / m_buildCost;
+      m_lastSahRatio = refitSahCost(m_prepared.bvh, soup) / m_buildCost;
       if (m_lastSahRatio > kBvhRebuildRatio) {
         m_buildTheta = m_theta;
+        Scene now = m_model->sceneAt(theta);
         build(now);
         m_scene.shapes = now.shapes;
         m_rebuilds++;

@@ -517,6 +517,42 @@ double bvhSahCost(const Bvh& bvh, float traversalCost) {
   return cost;
 }
 
+double refitSahCost(const Bvh& bvh, std::span<const BvhTriangle> triangles, float traversalCost) {
+  if (triangles.empty()) return bvhSahCost(bvh, traversalCost);  // an empty tree's root is its own child
+  // Every node's box after a refit (refitBvh's, by the same min and max), children first: the
+  // builder appends a node's children after it, so reverse index order visits them before it.
+  std::vector<Box> boxes(bvh.nodes.size());
+  for (size_t i = bvh.nodes.size(); i-- > 0;) {
+    const gpu::GpuBvhNode& n = bvh.nodes[i];
+    const uint32_t count = wordOf(n.rightMinCount.w);
+    Box box;
+    if (count > 0) {
+      const uint32_t first = wordOf(n.rightMaxFirst.w);
+      if (size_t(first) + count > triangles.size()) throw Error("internal: a BVH leaf beyond the triangles refit to");
+      for (uint32_t t = first; t < first + count; ++t) box.grow(trianglePaddedBox(triangles[t]));
+    } else {
+      const uint32_t left = wordOf(n.leftMinLeftIndex.w), right = wordOf(n.leftMaxRightIndex.w);
+      if (left <= i || right <= i || left >= boxes.size() || right >= boxes.size())
+        throw Error("internal: a BVH node's children precede it");
+      box.grow(boxes[left]);
+      box.grow(boxes[right]);
+    }
+    boxes[i] = box;
+  }
+  if (wordOf(bvh.nodes[0].rightMinCount.w) > 0) return double(wordOf(bvh.nodes[0].rightMinCount.w));
+  // bvhSahCost's sum, in its order.
+  const double rootArea = std::max(boxes[0].area(), 1e-300);
+  double cost = traversalCost;
+  for (const gpu::GpuBvhNode& n : bvh.nodes) {
+    if (wordOf(n.rightMinCount.w) > 0) continue;
+    for (uint32_t child : {wordOf(n.leftMinLeftIndex.w), wordOf(n.leftMaxRightIndex.w)}) {
+      const uint32_t count = wordOf(bvh.nodes[child].rightMinCount.w);
+      cost += boxes[child].area() / rootArea * (count > 0 ? double(count) : double(traversalCost));
+    }
+  }
+  return cost;
+}
+
 Bvh buildBvh(std::span<const BvhTriangle> triangles, const BvhBuildOptions& options) {
   if (options.maxLeafSize == 0) fail("", "bvh.maxLeafSize", "must be at least 1");
   if (options.bins < 2) fail("", "bvh.bins", "must be at least 2");
