@@ -150,32 +150,41 @@ ParameterModel modelOf(const Scene& scene, const std::vector<std::string>& names
   return ParameterModel(scene, indices);
 }
 
+// The room's loss gradient with respect to four of its parameters, against a fixed adjoint image.
+struct RoomGradient {
+  const std::vector<std::string> names = {"block_x", "bulb_y", "floor_albedo", "t0"};
+  const Scene scene = roomScene();
+  const ParameterModel model = modelOf(scene, names);
+  const std::vector<double> theta = std::vector<double>(model.size(), 0.0);
+  DeviceScene device{test::testRenderer().context(), model, theta, theta};
+  const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
+  const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
+  LossGradient operator()(const GradientOptions& o, AdjointState& state) {
+    return lossGradient(test::testRenderer(), device, {view}, o, state);
+  }
+};
+
 // A first scale 2^60 finer than the one a gradient settles on: the largest accumulator would hold
 // 2^100, so samples overflow, the passes must report it (each invocation counts its faults once as
 // it ends), and the driver must redo the gradient at coarser scales (2^-20 each) until none
 // does. It ends 2^20 finer than the settled scale, so it equals the gradient found from the
 // settled one up to the accumulators' rounding, far below 1e-6 of the largest entry.
 TEST(GradAdjoint, OverflowingAccumulatorsAreRescaled) {
-  const Scene scene = roomScene();
-  const std::vector<std::string> names = {"block_x", "bulb_y", "floor_albedo", "t0"};
-  const ParameterModel model = modelOf(scene, names);
-  std::vector<double> theta(model.size(), 0.0);
-  DeviceScene deviceScene(test::testRenderer().context(), model, theta, theta);
-  const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
-  const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
+  RoomGradient gradient;
   AdjointState settled;
-  lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), settled);
-  const LossGradient reference = lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), settled);
+  gradient(options(8, 8), settled);
+  const LossGradient reference = gradient(options(8, 8), settled);
   ASSERT_EQ(reference.attempts, 1u);
   AdjointState fine;
   fine.scale = std::ldexp(settled.scale, 60);
-  const LossGradient rescaled = lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), fine);
+  const LossGradient rescaled = gradient(options(8, 8), fine);
   EXPECT_EQ(rescaled.attempts, 3u);
   EXPECT_EQ(rescaled.stats.gradientOverflows, 0u);
   double largest = 0;
   for (double g : reference.theta) largest = std::max(largest, std::abs(g));
   ASSERT_GT(largest, 0.0);
-  for (size_t k = 0; k < names.size(); ++k) EXPECT_NEAR(rescaled.theta[k], reference.theta[k], 1e-6 * largest) << names[k];
+  for (size_t k = 0; k < gradient.names.size(); ++k)
+    EXPECT_NEAR(rescaled.theta[k], reference.theta[k], 1e-6 * largest) << gradient.names[k];
 }
 
 // Ctrl-C during a retry (here the second of the three attempts above) must leave the scale the
@@ -183,20 +192,15 @@ TEST(GradAdjoint, OverflowingAccumulatorsAreRescaled) {
 // gradient from it, attempt for attempt. The scale of an interrupted attempt would start the resumed
 // gradient elsewhere.
 TEST(GradAdjoint, GradientInterruptedDuringARetryKeepsItsStartingScale) {
-  const Scene scene = roomScene();
-  const ParameterModel model = modelOf(scene, {"block_x", "bulb_y", "floor_albedo", "t0"});
-  std::vector<double> theta(model.size(), 0.0);
-  DeviceScene deviceScene(test::testRenderer().context(), model, theta, theta);
-  const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
-  const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
+  RoomGradient gradient;
   AdjointState settled;
-  lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), settled);
+  gradient(options(8, 8), settled);
   GradientOptions counting = options(8, 8);
   uint32_t batches = 0;
   counting.render.progress = [&](double) { ++batches; };
   AdjointState fine;
   fine.scale = std::ldexp(settled.scale, 60);
-  const LossGradient whole = lossGradient(test::testRenderer(), deviceScene, {view}, counting, fine);
+  const LossGradient whole = gradient(counting, fine);
   ASSERT_EQ(whole.attempts, 3u);
   ASSERT_EQ(batches % 3, 0u);
   const uint32_t perAttempt = batches / 3;
@@ -208,15 +212,15 @@ TEST(GradAdjoint, GradientInterruptedDuringARetryKeepsItsStartingScale) {
   };
   AdjointState stopped;
   stopped.scale = std::ldexp(settled.scale, 60);
-  EXPECT_THROW(lossGradient(test::testRenderer(), deviceScene, {view}, interrupting, stopped), Interrupted);
+  EXPECT_THROW(gradient(interrupting, stopped), Interrupted);
   clearInterrupt();
   EXPECT_EQ(batches, perAttempt + 1);
   EXPECT_EQ(stopped.scale, std::ldexp(settled.scale, 60));
   // Resumed from there, the gradient is the uninterrupted one, bit for bit.
-  const LossGradient resumed = lossGradient(test::testRenderer(), deviceScene, {view}, options(8, 8), stopped);
+  const LossGradient resumed = gradient(options(8, 8), stopped);
   EXPECT_EQ(resumed.attempts, 3u);
   EXPECT_EQ(stopped.scale, fine.scale);
-  for (size_t k = 0; k < whole.theta.size(); ++k) EXPECT_EQ(resumed.theta[k], whole.theta[k]) << k;
+  for (size_t k = 0; k < whole.theta.size(); ++k) EXPECT_EQ(resumed.theta[k], whole.theta[k]) << gradient.names[k];
 }
 
 // The accumulators reach the host directly where the device's memory is mapped and cached, through a
