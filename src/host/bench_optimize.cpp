@@ -50,7 +50,9 @@ Scene heightfieldScene(uint32_t n, uint32_t resolution, uint32_t spp) {
   scene.render.maxDepth = 4;
   for (uint32_t k = 0; k < n * n; ++k) {
     Parameter p;
-    p.name = "h" + std::to_string(k);
+    // Appended rather than "h" + std::to_string(k), which GCC 12 flags with a false -Wrestrict.
+    p.name = "h";
+    p.name += std::to_string(k);
     p.kind = ParameterKind::Displace;
     p.target = "terrain";
     p.axis = glm::vec3(0, 1, 0);
