@@ -496,61 +496,63 @@ void refitBvh(Bvh& bvh, std::span<const BvhTriangle> triangles) {
   }
 }
 
-double bvhSahCost(const Bvh& bvh, float traversalCost) {
+namespace {
+
+// The SAH cost of `bvh`'s topology with each inner node's children boxed by
+// childBox(node, right): expected node visits (times `traversalCost`) plus triangle tests of a
+// random ray through the root box.
+template <class ChildBox>
+double sahCostOf(const Bvh& bvh, float traversalCost, ChildBox childBox) {
   const gpu::GpuBvhNode& root = bvh.nodes.at(0);
   if (wordOf(root.rightMinCount.w) > 0) return double(wordOf(root.rightMinCount.w));
   Box rootBox;
-  rootBox.grow({glm::vec3(root.leftMinLeftIndex), glm::vec3(root.leftMaxRightIndex)});
-  rootBox.grow({glm::vec3(root.rightMinCount), glm::vec3(root.rightMaxFirst)});
+  rootBox.grow(childBox(root, false));
+  rootBox.grow(childBox(root, true));
   const double rootArea = std::max(rootBox.area(), 1e-300);
   double cost = traversalCost;  // the root is always visited
   for (const gpu::GpuBvhNode& n : bvh.nodes) {
     if (wordOf(n.rightMinCount.w) > 0) continue;
-    const std::pair<Box, uint32_t> children[2] = {
-        {{glm::vec3(n.leftMinLeftIndex), glm::vec3(n.leftMaxRightIndex)}, wordOf(n.leftMinLeftIndex.w)},
-        {{glm::vec3(n.rightMinCount), glm::vec3(n.rightMaxFirst)}, wordOf(n.leftMaxRightIndex.w)}};
-    for (const auto& [box, child] : children) {
-      uint32_t count = wordOf(bvh.nodes[child].rightMinCount.w);
-      cost += box.area() / rootArea * (count > 0 ? double(count) : double(traversalCost));
+    for (bool right : {false, true}) {
+      const uint32_t child = wordOf(right ? n.leftMaxRightIndex.w : n.leftMinLeftIndex.w);
+      const uint32_t count = wordOf(bvh.nodes[child].rightMinCount.w);
+      cost += childBox(n, right).area() / rootArea * (count > 0 ? double(count) : double(traversalCost));
     }
   }
   return cost;
 }
 
+}  // namespace
+
+double bvhSahCost(const Bvh& bvh, float traversalCost) {
+  return sahCostOf(bvh, traversalCost, [](const gpu::GpuBvhNode& n, bool right) {
+    return right ? Box{glm::vec3(n.rightMinCount), glm::vec3(n.rightMaxFirst)}
+                 : Box{glm::vec3(n.leftMinLeftIndex), glm::vec3(n.leftMaxRightIndex)};
+  });
+}
+
 double refitSahCost(const Bvh& bvh, std::span<const BvhTriangle> triangles, float traversalCost) {
   if (triangles.empty()) return bvhSahCost(bvh, traversalCost);  // an empty tree's root is its own child
-  // Every node's box after a refit (refitBvh's, by the same min and max), children first: the
-  // builder appends a node's children after it, so reverse index order visits them before it.
+  // Every node's box after a refit (refitBvh's nodeBox, by the same min and max), children first:
+  // the builder appends a node's children after it, so reverse index order visits them before it.
   std::vector<Box> boxes(bvh.nodes.size());
   for (size_t i = bvh.nodes.size(); i-- > 0;) {
     const gpu::GpuBvhNode& n = bvh.nodes[i];
     const uint32_t count = wordOf(n.rightMinCount.w);
-    Box box;
     if (count > 0) {
-      const uint32_t first = wordOf(n.rightMaxFirst.w);
-      if (size_t(first) + count > triangles.size()) throw Error("internal: a BVH leaf beyond the triangles refit to");
-      for (uint32_t t = first; t < first + count; ++t) box.grow(trianglePaddedBox(triangles[t]));
-    } else {
-      const uint32_t left = wordOf(n.leftMinLeftIndex.w), right = wordOf(n.leftMaxRightIndex.w);
-      if (left <= i || right <= i || left >= boxes.size() || right >= boxes.size())
-        throw Error("internal: a BVH node's children precede it");
-      box.grow(boxes[left]);
-      box.grow(boxes[right]);
+      if (size_t(wordOf(n.rightMaxFirst.w)) + count > triangles.size())
+        throw Error("internal: a BVH leaf beyond the triangles refit to");
+      boxes[i] = nodeBox(bvh, triangles, uint32_t(i));
+      continue;
     }
-    boxes[i] = box;
+    const uint32_t left = wordOf(n.leftMinLeftIndex.w), right = wordOf(n.leftMaxRightIndex.w);
+    if (left <= i || right <= i || left >= boxes.size() || right >= boxes.size())
+      throw Error("internal: a BVH node's children precede it");
+    boxes[i].grow(boxes[left]);
+    boxes[i].grow(boxes[right]);
   }
-  if (wordOf(bvh.nodes[0].rightMinCount.w) > 0) return double(wordOf(bvh.nodes[0].rightMinCount.w));
-  // bvhSahCost's sum, in its order.
-  const double rootArea = std::max(boxes[0].area(), 1e-300);
-  double cost = traversalCost;
-  for (const gpu::GpuBvhNode& n : bvh.nodes) {
-    if (wordOf(n.rightMinCount.w) > 0) continue;
-    for (uint32_t child : {wordOf(n.leftMinLeftIndex.w), wordOf(n.leftMaxRightIndex.w)}) {
-      const uint32_t count = wordOf(bvh.nodes[child].rightMinCount.w);
-      cost += boxes[child].area() / rootArea * (count > 0 ? double(count) : double(traversalCost));
-    }
-  }
-  return cost;
+  return sahCostOf(bvh, traversalCost, [&](const gpu::GpuBvhNode& n, bool right) {
+    return boxes[wordOf(right ? n.leftMaxRightIndex.w : n.leftMinLeftIndex.w)];
+  });
 }
 
 Bvh buildBvh(std::span<const BvhTriangle> triangles, const BvhBuildOptions& options) {
