@@ -218,7 +218,7 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
   SpecValues spec{};
   spec[gpu::kSpecSingleChunk] = m_gpu->singleChunk() ? 1u : 0u;
   // kSpecSceneTexels stays 0: these passes write the nodes they read (refit_bvh).
-  // The first update creates the passes' pipelines together, in parallel.
+  // The first update creates the passes' pipelines together (in parallel on a GPU).
   std::vector<std::pair<std::string, SpecValues>> passes;
   if (moveGeometry) passes = {{"move_vertices", spec}, {"update_triangles", spec}, {"refit_bvh", spec}};
   if (moveGeometry && m_gpu->wideBvh()) passes.push_back({"refit_wide_bvh", spec});

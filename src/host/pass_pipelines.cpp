@@ -9,6 +9,7 @@
 #include <iterator>
 #include <vector>
 
+#include "host/forced_choice.h"
 #include "host/vk_check.h"
 #include "vktg/error.h"
 
@@ -125,18 +126,27 @@ void PassPipelines::prepare(const std::vector<std::pair<std::string, SpecValues>
     infos[k].stage.pSpecializationInfo = &specInfos[k];
     infos[k].layout = m_layout.get();
   }
-  // One thread per pipeline: vkCreateComputePipelines may be called concurrently, and the pipeline
-  // cache synchronises itself (it was not created externally synchronised). A thread that cannot be
-  // started leaves its pipeline to this one.
+  // On a GPU, one thread per pipeline: vkCreateComputePipelines may be called concurrently, and the
+  // pipeline cache synchronises itself (it was not created externally synchronised). A thread that
+  // cannot be started leaves its pipeline to this one. On a CPU device, one after another: lavapipe
+  // (Mesa 22.3) makes each pipeline's shader through its queue's gallium context, which is not made
+  // for several threads at once; valgrind's helgrind sees the creating threads read and write
+  // lavapipe's globals unsynchronised, and two CI runs whose only threads of our own were these died
+  // of a corrupted heap and a segmentation fault. VKTG_PIPELINE_CREATION=parallel|serial overrides.
   std::vector<VkPipeline> created(n, VK_NULL_HANDLE);
   std::vector<VkResult> results(n, VK_SUCCESS);
   auto create = [&](size_t k) {
     results[k] = vkCreateComputePipelines(m_context.device(), m_cache.get(), 1, &infos[k], nullptr, &created[k]);
   };
+  const bool parallel = forcedChoice("VKTG_PIPELINE_CREATION", "parallel", "serial").value_or(!m_context.isCpuDevice());
   {
     std::vector<std::thread> threads;
     std::vector<size_t> onThisThread;
     for (size_t k = 1; k < n; ++k) {
+      if (!parallel) {
+        onThisThread.push_back(k);
+        continue;
+      }
       try {
         threads.emplace_back(create, k);
       } catch (const std::system_error&) {

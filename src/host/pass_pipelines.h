@@ -3,7 +3,7 @@
 // buffers, the frame block at binding 0 included, see shaders/lib/scene_bindings.glsl, and both
 // add gpu::kTexelBindingCount uniform texel buffers from gpu::kFirstTexelBinding), compute
 // pipelines created on demand per (shader variant, specialisation constants), those a render needs
-// together in parallel, and descriptor sets.
+// together (in parallel on a GPU), and descriptor sets.
 // Pipelines are cached on disk (VkPipelineCache) keyed by device, driver and vktg build.
 #pragma once
 #include <array>
@@ -31,8 +31,9 @@ class PassPipelines {
 
   VkPipeline get(const std::string& shader, const SpecValues& spec);
 
-  // Creates the pipelines of `passes` that do not exist yet, in parallel (a driver that compiles at
-  // creation, like lavapipe, then uses every core); get() then finds them.
+  // Creates the pipelines of `passes` that do not exist yet: in parallel on a GPU (a driver that
+  // compiles at creation then uses every core), one after another on a CPU device (the .cpp says
+  // why); get() then finds them.
   void prepare(const std::vector<std::pair<std::string, SpecValues>>& passes);
   VkPipelineLayout layout() const { return m_layout.get(); }
   VkDescriptorSetLayout setLayout() const { return m_setLayout.get(); }

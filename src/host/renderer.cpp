@@ -395,8 +395,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   // What finishes a batch: film accumulation (forward) or the adjoint's last step.
   const std::string finishName = adjoint ? (edges ? "scatter_edges" : fromCamera ? "" : "backprop_paths")
                                          : (splat ? "accumulate_splats" : "accumulate");
-  // Created together, in parallel: on a driver that compiles at creation this is most of a short
-  // render's start-up.
+  // Created together (in parallel on a GPU): on a driver that compiles at creation this is most of
+  // a short render's start-up.
   std::vector<std::pair<std::string, SpecValues>> passes = {
       {generateName, spec}, {"intersect_closest", spec}, {shadeName, spec}, {shadowName, spec}, {"set_dispatch_args", spec}};
   if (!finishName.empty()) passes.push_back({finishName, spec});
