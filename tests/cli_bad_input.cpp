@@ -350,6 +350,11 @@ TEST_F(CliBadInput, UnknownShadowSlots) {
                      {{"VKTG_SHADOW_SLOTS", "some"}});
 }
 
+TEST_F(CliBadInput, UnknownPipelineCreation) {
+  expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_PIPELINE_CREATION", "'threads'"},
+                     {{"VKTG_PIPELINE_CREATION", "threads"}});
+}
+
 TEST_F(CliBadInput, UnknownDeviceMemory) {
   expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_DEVICE_MEMORY", "'host'"},
                      {{"VKTG_DEVICE_MEMORY", "host"}});
