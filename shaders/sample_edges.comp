@@ -23,8 +23,8 @@
 // from which accumulate_splats (forward lanes: the factor -v_n, +v_n on the occluded side) or
 // scatter_edges (the adjoint) finish the slot once its light side is known.
 // Reads: edges, scene BVH, camera. Writes: paths[2i, 2i+1], hits, ray queue 0, edge records,
-// edge counters. Dispatch: ceil(edge samples of the batch / kWorkgroupSize); push.args: x first
-// edge sample of the batch, w samples in the batch.
+// edge counters. Dispatch: ceil(edge samples of the batch / kWorkgroupSize), once per strategy
+// pipeline (below); push.args: x first edge sample of the batch, w samples in the batch.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
@@ -49,12 +49,19 @@ const uint kRngDimEdgeWalk = 8u;  // + walk step: the camera side's numbers (str
 // weights 1 / probability stay right; but invocations that run together now share one strategy. A
 // CPU device runs every branch that any lane of its SIMD group takes (three strategies, five BVH
 // traversals, per group when the choice was per sample), and a GPU warp diverges on the same.
+//
+// A GPU runs each strategy as a pipeline of its own (kSpecEdgeStrategy, one dispatch each over all
+// the samples, which leave at once unless the strategy is theirs). In one pipeline the three took
+// an H100 1.7 times as long as apart, about as long as the primary strategy alone takes for every
+// sample: a pipeline is compiled for its heaviest code, and the primary strategy's appears to limit
+// how many invocations the GPU holds at once (docs/benchmarks.md, "On a GPU: NVIDIA H100"). On
+// lavapipe either way takes the same time, so a CPU device runs them together and compiles one
+// pipeline instead of three. Each sample takes the same path either way.
 const uint kEdgeStrategyBlock = 32u, kEdgeStrategyCycle = 20u;
 const uint kPrimaryBlocks = 7u, kToLightBlocks = 9u;
 const float kPrimaryProbability = float(kPrimaryBlocks) / float(kEdgeStrategyCycle);
 const float kToLightProbability = float(kToLightBlocks) / float(kEdgeStrategyCycle);
 const float kSecondaryProbability = 1.0 - kPrimaryProbability - kToLightProbability;
-const uint kEdgeStrategyPrimary = 0u, kEdgeStrategyToLight = 1u, kEdgeStrategySecondary = 2u;
 
 uint edgeStrategy(uint sampleIndex) {
   // The offset's stream: no edge sample has index 0xffffffff (a render holds fewer than 2^32).
@@ -339,6 +346,11 @@ void main() {
   // Random numbers are keyed by the sample's index within its view.
   setViewOfSample(push.args.x + i);
   uint sampleIndex = viewSample(push.args.x + i);
+  uint strategy = edgeStrategy(sampleIndex);
+  if (kSpecEdgeStrategyValue < kEdgeStrategyCount) {
+    if (strategy != kSpecEdgeStrategyValue) return;  // another dispatch's sample, slots included
+    strategy = kSpecEdgeStrategyValue;  // a constant: the other strategies' code is left out
+  }
   for (uint side = 0u; side < 2u; ++side) {
     paths[2u * i + side].ids = uvec4(kNoPixel, sampleIndex, 0u, 0u);
     paths[2u * i + side].misc.z = viewBits();
@@ -354,7 +366,6 @@ void main() {
   float pY = e.inward1.w / distance(e.p0.xyz, e.p1.xyz);
   float offset = kEdgeOffsetEpsilons * frame.sceneInfo.x;
   vec4 u2 = rngNext4(rng);
-  uint strategy = edgeStrategy(sampleIndex);
   if (strategy == kEdgeStrategyPrimary) primarySample(i, sampleIndex, edge, e, t, y, pY, offset);
   else if (strategy == kEdgeStrategyToLight) toLightSample(i, sampleIndex, edge, e, t, y, pY, offset, u2.xyz);
   else secondarySample(i, sampleIndex, edge, e, t, y, pY, offset, u2.xy);

@@ -350,6 +350,12 @@ TEST_F(CliBadInput, UnknownShadowSlots) {
                      {{"VKTG_SHADOW_SLOTS", "some"}});
 }
 
+// Read by every render, edges or not.
+TEST_F(CliBadInput, UnknownEdgeDispatch) {
+  expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_EDGE_DISPATCH", "'apart'"},
+                     {{"VKTG_EDGE_DISPATCH", "apart"}});
+}
+
 TEST_F(CliBadInput, UnknownPipelineCreation) {
   expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_PIPELINE_CREATION", "'threads'"},
                      {{"VKTG_PIPELINE_CREATION", "threads"}});

@@ -385,6 +385,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   spec[gpu::kSpecMultiView] = views ? 1u : 0u;
   // VKTG_SHADOW_SLOTS=filled|all overrides the device's choice (tests): the same bits either way.
   spec[gpu::kSpecFilledSlotsOnly] = forcedChoice("VKTG_SHADOW_SLOTS", "filled", "all").value_or(context.isCpuDevice()) ? 1u : 0u;
+  spec[gpu::kSpecEdgeStrategy] = gpu::kEdgeStrategyCount;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";
@@ -395,14 +396,26 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   // What finishes a batch: film accumulation (forward) or the adjoint's last step.
   const std::string finishName = adjoint ? (edges ? "scatter_edges" : fromCamera ? "" : "backprop_paths")
                                          : (splat ? "accumulate_splats" : "accumulate");
+  // A GPU samples edges with one pipeline per strategy, a CPU device with one for all (the reasons:
+  // sample_edges.comp); VKTG_EDGE_DISPATCH=split|single overrides (tests): the same samples either way.
+  // (Read by every render, so that a bad value is an error wherever it is set.)
+  const bool edgeStrategiesApart = forcedChoice("VKTG_EDGE_DISPATCH", "split", "single").value_or(!context.isCpuDevice());
+  std::vector<SpecValues> generateSpecs = {spec};
+  if (edges && edgeStrategiesApart) {
+    generateSpecs.assign(gpu::kEdgeStrategyCount, spec);
+    for (uint32_t strategy = 0; strategy < gpu::kEdgeStrategyCount; ++strategy)
+      generateSpecs[strategy][gpu::kSpecEdgeStrategy] = strategy;
+  }
   // Created together (in parallel on a GPU): on a driver that compiles at creation this is most of
   // a short render's start-up.
-  std::vector<std::pair<std::string, SpecValues>> passes = {
-      {generateName, spec}, {"intersect_closest", spec}, {shadeName, spec}, {shadowName, spec}, {"set_dispatch_args", spec}};
+  std::vector<std::pair<std::string, SpecValues>> passes;
+  for (const SpecValues& s : generateSpecs) passes.push_back({generateName, s});
+  passes.insert(passes.end(), {{"intersect_closest", spec}, {shadeName, spec}, {shadowName, spec}, {"set_dispatch_args", spec}});
   if (!finishName.empty()) passes.push_back({finishName, spec});
   if (!adjoint) passes.push_back({"resolve", spec});
   pipelines.prepare(passes);
-  VkPipeline generate = pipelines.get(generateName, spec);
+  std::vector<VkPipeline> generate;
+  for (const SpecValues& s : generateSpecs) generate.push_back(pipelines.get(generateName, s));
   VkPipeline intersect = pipelines.get("intersect_closest", spec);
   VkPipeline shade = pipelines.get(shadeName, spec);
   VkPipeline shadow = pipelines.get(shadowName, spec);
@@ -413,7 +426,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   VkDescriptorSet ds = set.get();
 
   const uint32_t maxDepth = settings.maxDepth;
-  PassProfiler profiler(context, 9 + 6 * maxDepth, options.profile);  // + resolve in the last batch
+  // + resolve in the last batch, + 2 when the edges are sampled a strategy at a time
+  PassProfiler profiler(context, 11 + 6 * maxDepth, options.profile);
   CommandBuffer cmdBuffer(context, "render batch");
   VkCommandBuffer cmd = cmdBuffer.get();
 
@@ -497,7 +511,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     vkCmdFillBuffer(cmd, wave.rayQueues.handle(), 3ull * batchSize * sizeof(uint32_t), uint64_t(batchSize) * sizeof(uint32_t), 0);
     computeBarrier(cmd);
     pushArgs(cmd, layout, splat ? uint32_t(done) : firstLinear, firstSample, 0, active);
-    dispatch(generateName.c_str(), generate, groupsFor(active));
+    for (VkPipeline pipeline : generate) dispatch(generateName.c_str(), pipeline, groupsFor(active));
     // connect_camera_boundary queues complete connections: no rays to extend.
     if (fromCamera) traceShadowRays();
     for (uint32_t depth = 0; depth < (fromCamera ? 0 : maxDepth); ++depth) {

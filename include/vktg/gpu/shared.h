@@ -180,7 +180,14 @@ VKTG_CONST(uint, kSpecWaveTexels, 13);   // 1: path-state and hit loads through 
 VKTG_CONST(uint, kSpecWideBvh, 14);      // 1: closest- and any-hit traversal over the 4-wide BVH
 VKTG_CONST(uint, kSpecMultiView, 15);    // 1: several views in one render (FrameUniforms.viewInfo, lib/view.glsl)
 VKTG_CONST(uint, kSpecFilledSlotsOnly, 16);  // 1: trace_shadow_rays loops over a path's filled slots only (CPU devices)
-VKTG_CONST(uint, kSpecCount, 17);
+VKTG_CONST(uint, kSpecEdgeStrategy, 17);     // sample_edges: the one strategy this pipeline runs, or kEdgeStrategyCount: all
+VKTG_CONST(uint, kSpecCount, 18);
+
+// sample_edges' strategies (its header): the camera's segment through the edge, a light's, a uniform direction.
+VKTG_CONST(uint, kEdgeStrategyPrimary, 0);
+VKTG_CONST(uint, kEdgeStrategyToLight, 1);
+VKTG_CONST(uint, kEdgeStrategySecondary, 2);
+VKTG_CONST(uint, kEdgeStrategyCount, 3);
 
 // How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
 VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
