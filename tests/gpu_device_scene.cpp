@@ -137,6 +137,36 @@ TEST(DeviceScene, RefitIsTheHostRefitOfTheSameTree) {
   EXPECT_GT(changed, 0u) << "the motion should have changed some wide boxes";
 }
 
+// An update rebuilds the light table from the emitting triangles alone: the table a pass over every
+// triangle gives, with the areas the emitters' moved vertices span. The heightfield emits here, so
+// its heights change its triangles' areas and hence the light selection.
+TEST(DeviceScene, LightTableOfADeformedEmitterIsTheFullScans) {
+  Scene scene = movingScene();
+  scene.shapes[0].emission = 0.5f;
+  ParameterModel model(scene, allParameters(scene));
+  const std::vector<double> zero(model.size(), 0.0), theta = someTheta(model);
+  DeviceScene device(testContext(), model, zero, zero);
+  device.update(theta, false);
+  const PreparedScene& updated = device.prepared();
+  const std::vector<glm::dvec3> ground = model.shapePositions(theta, 0);  // shape 0: vertices from 0
+  size_t groundTriangles = 0;
+  for (size_t i = 0; i < updated.triangles.size(); ++i) {
+    const glm::uvec4& ids = updated.triangleVerts[i];
+    if (ids.w != 0) continue;
+    ++groundTriangles;
+    const glm::dvec3 a = ground[ids.x], b = ground[ids.y], c = ground[ids.z];
+    EXPECT_NEAR(updated.triangles[i].p2.w, 0.5 * glm::length(glm::cross(b - a, c - a)), 1e-6) << "triangle " << i;
+  }
+  EXPECT_EQ(groundTriangles, 32u);
+  PreparedScene full = updated;
+  prepareLights(full, device.scene());
+  ASSERT_EQ(full.lights.size(), updated.lights.size());
+  EXPECT_EQ(updated.lights.size(), 32u + 2u) << "the ground's triangles and the lamp's two";
+  for (size_t i = 0; i < full.lights.size(); ++i)
+    EXPECT_EQ(std::memcmp(&full.lights[i], &updated.lights[i], sizeof(gpu::GpuLight)), 0) << "light " << i;
+  EXPECT_EQ(full.totalLightPower, updated.totalLightPower);
+}
+
 // Same seed, same paths: the moved scene renders as the scene built at θ does.
 void expectRendersLikeAFreshScene(DeviceScene& device, const Scene& fresh) {
   RenderOptions options;

@@ -28,7 +28,9 @@ struct PreparedScene {
 PreparedScene prepareScene(const Scene& scene);
 
 // (Re)builds the light table (lights, lightMask, totalLightPower) from the shapes' emission
-// (out.shapes), the triangle areas (out.triangles[i].p2.w) and the scene's point lights.
-void prepareLights(PreparedScene& out, const Scene& scene);
+// (out.shapes), the triangle areas (out.triangles[i].p2.w) and the scene's point lights. With
+// `emitters` (ascending triangle indices, a superset of those that emit), only those are visited:
+// the same table, without a pass over every triangle.
+void prepareLights(PreparedScene& out, const Scene& scene, const std::vector<uint32_t>* emitters = nullptr);
 
 }  // namespace vktg

@@ -63,6 +63,7 @@ DeviceScene::DeviceScene(VulkanContext& context, const ParameterModel& model, st
                          std::span<const double> buildTheta)
     : m_context(context), m_model(&model), m_buildTheta(buildTheta.begin(), buildTheta.end()) {
   m_update = std::make_unique<UpdateResources>(context, model);
+  m_movingShapes = model.movingShapes();
   for (const PointLight& light : model.baseScene().pointLights) m_lightBase.push_back(light.position);
   Scene atBuild = model.sceneAt(buildTheta);
   m_scene = atBuild;
@@ -75,11 +76,13 @@ DeviceScene::~DeviceScene() = default;
 void DeviceScene::build(const Scene& sceneAtBuild) {
   m_prepared = prepareScene(sceneAtBuild);
   if (m_model) {
-    std::vector<bool> moving = m_model->movingShapes();
-    for (size_t s = 0; s < moving.size(); ++s) m_prepared.shapes[s].flags = moving[s] ? gpu::kShapeMoves : 0u;
+    for (size_t s = 0; s < m_movingShapes.size(); ++s) m_prepared.shapes[s].flags = m_movingShapes[s] ? gpu::kShapeMoves : 0u;
   }
   m_gpu = std::make_unique<GpuScene>(m_context, m_prepared);
   m_buildCost = bvhSahCost(m_prepared.bvh);
+  m_emitterTriangles.clear();
+  for (uint32_t i = 0; i < m_prepared.triangles.size(); ++i)
+    if (sceneAtBuild.shapes[m_prepared.triangleVerts[i].w].emission > 0) m_emitterTriangles.push_back(i);
   if (m_update) {
     m_update->levels = bvhRefitOrder(m_prepared.bvh);
     m_update->refitOrder = deviceArray(m_context, m_update->levels.nodes, "update.refitOrder");
@@ -130,14 +133,13 @@ void DeviceScene::uploadTables() {
   for (size_t s = 0; s < m_prepared.shapes.size(); ++s) m_prepared.shapes[s].emission = m_scene.shapes[s].emission;
   // Emitters the parameters deform change their triangles' areas, hence the light selection.
   if (m_model && m_model->movesVertices()) {
-    std::vector<bool> moving = m_model->movingShapes();
     std::vector<uint32_t> firstVertex(m_scene.shapes.size() + 1, 0);
     for (size_t s = 0; s < m_scene.shapes.size(); ++s)
       firstVertex[s + 1] = firstVertex[s] + uint32_t(m_scene.shapes[s].positions.size());
-    for (uint32_t s = 0; s < moving.size(); ++s) {
-      if (!moving[s] || !(m_scene.shapes[s].emission > 0)) continue;
+    for (uint32_t s = 0; s < m_movingShapes.size(); ++s) {
+      if (!m_movingShapes[s] || !(m_scene.shapes[s].emission > 0)) continue;
       std::vector<glm::dvec3> p = m_model->shapePositions(m_theta, s);
-      for (size_t i = 0; i < m_prepared.triangles.size(); ++i) {
+      for (uint32_t i : m_emitterTriangles) {
         const glm::uvec4& ids = m_prepared.triangleVerts[i];
         if (ids.w != s) continue;
         glm::dvec3 a = p[ids.x - firstVertex[s]], b = p[ids.y - firstVertex[s]], c = p[ids.z - firstVertex[s]];
@@ -151,7 +153,7 @@ void DeviceScene::uploadTables() {
     m_prepared.materials[m].roughness = material.roughness;
     m_prepared.materials[m].ior = material.ior;
   }
-  prepareLights(m_prepared, m_scene);
+  prepareLights(m_prepared, m_scene, &m_emitterTriangles);
   if (m_prepared.lights.size() * sizeof(gpu::GpuLight) > m_gpu->lights.size())
     throw Error("scene: an emitter was deformed into more light entries than the scene was built with");
   m_gpu->shapes.upload(m_context, m_prepared.shapes.data(), m_prepared.shapes.size() * sizeof(gpu::GpuShape));
@@ -177,7 +179,7 @@ void DeviceScene::placePointLights(const std::vector<std::pair<uint32_t, glm::ve
       changed = true;
     }
   if (!changed) return;
-  prepareLights(m_prepared, m_scene);
+  prepareLights(m_prepared, m_scene, &m_emitterTriangles);
   m_gpu->lights.upload(m_context, m_prepared.lights.data(), m_prepared.lights.size() * sizeof(gpu::GpuLight));
 }
 

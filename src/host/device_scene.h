@@ -82,6 +82,10 @@ class DeviceScene {
   std::vector<double> m_theta, m_buildTheta;
   std::vector<glm::vec3> m_lightBase;     // point lights as the scene file places them
   std::vector<glm::vec3> m_lightsAtTheta;  // ... and where θ puts them
+  // Triangles of shapes that emit (leaf order, ascending): an update visits these alone for the
+  // light table, not every triangle (parameters cannot make a shape emit that does not).
+  std::vector<uint32_t> m_emitterTriangles;
+  std::vector<bool> m_movingShapes;
   double m_buildCost = 0, m_lastSahRatio = 1;
   uint32_t m_rebuilds = 0;
 

@@ -63,22 +63,26 @@ PreparedScene prepareScene(const Scene& scene) {
   return out;
 }
 
-void prepareLights(PreparedScene& out, const Scene& scene) {
+void prepareLights(PreparedScene& out, const Scene& scene, const std::vector<uint32_t>* emitters) {
   out.lights.clear();
   out.lightMask = 0;
   // Light selection proportional to emitted power.
   std::vector<double> power;
-  for (uint32_t i = 0; i < out.triangles.size(); ++i) {
+  auto visit = [&](uint32_t i) {
     float emission = out.shapes[out.triangleVerts[i].w].emission;
     float area = out.triangles[i].p2.w;
-    if (emission <= 0 || area <= 0) continue;
+    if (emission <= 0 || area <= 0) return;
     gpu::GpuLight light{};
     light.type = gpu::kLightAreaTriangle;
     light.triangle = i;
     out.lights.push_back(light);
     power.push_back(double(kPi) * emission * area);
     out.lightMask |= 1u << gpu::kLightAreaTriangle;
-  }
+  };
+  if (emitters)
+    for (uint32_t i : *emitters) visit(i);
+  else
+    for (uint32_t i = 0; i < out.triangles.size(); ++i) visit(i);
   for (const PointLight& p : scene.pointLights) {
     gpu::GpuLight light{};
     light.type = gpu::kLightPoint;
