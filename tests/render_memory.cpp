@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "host/memory_arena.h"
+#include "host/memory_guard.h"
 #include "host/memory_preflight.h"
 #include "support/gpu_context.h"
 #include "support/render_test.h"
@@ -167,6 +168,40 @@ TEST(RenderMemory, ArenaBindsEachSetIntoOneBlockThatOnlyGrows) {
   std::vector<Buffer> once = makeSet({64});
   arena.bind({&once[0]});
   EXPECT_THROW(arena.bind({&once[0]}), Error);
+}
+
+// With VKTG_GUARD_MEMORY=1 (on in the tests) every mapped buffer, alone or in an arena, has a guard
+// after its end, checked after each submission: a write past a buffer's end fails the next
+// submission and names the buffer.
+TEST(RenderMemory, AWritePastABuffersEndFailsTheNextSubmission) {
+  const VulkanContext& context = testContext();  // applies the test environment first
+  ASSERT_TRUE(memoryGuardsOn()) << "the tests run with VKTG_GUARD_MEMORY=1";
+  Buffer own(context, 100, MemoryKind::Device, "own memory");
+  MemoryArena arena(context, "guard arena");
+  std::vector<Buffer> set;
+  set.emplace_back(context, 64, MemoryKind::Device, "first in the arena", Binding::Arena);
+  set.emplace_back(context, 64, MemoryKind::Device, "second in the arena", Binding::Arena);
+  arena.bind({&set[0], &set[1]});
+  if (!own.mapped() || !set[0].mapped()) GTEST_SKIP() << "this device's memory is not mapped: it has no guards";
+  auto submit = [&] {
+    CommandBuffer cmd(context, "guard test");
+    cmd.begin();
+    cmd.end();
+    context.submitAndWait(cmd.get());
+  };
+  for (Buffer* b : {&own, &set[0], &set[1]}) {
+    EXPECT_NO_THROW(submit());
+    char* past = static_cast<char*>(b->mapped()) + b->size();
+    *past ^= 0x40;
+    try {
+      submit();
+      ADD_FAILURE() << "nothing caught the write past '" << b->name() << "'";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("'" + b->name() + "'"), std::string::npos) << e.what();
+    }
+    *past ^= 0x40;
+  }
+  EXPECT_NO_THROW(submit());
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "host/memory_arena.h"
 
+#include "host/memory_guard.h"
 #include "host/vk_check.h"
 #include "vktg/error.h"
 
@@ -9,7 +10,10 @@ MemoryArena::MemoryArena(const VulkanContext& context, std::string name)
     : m_context(context), m_name(std::move(name)) {}
 
 void MemoryArena::release() {
-  if (m_memory) vkFreeMemory(m_context.device(), m_memory, nullptr);  // unmaps implicitly
+  if (m_memory) {
+    releaseMemoryGuards(m_memory);
+    vkFreeMemory(m_context.device(), m_memory, nullptr);  // unmaps implicitly
+  }
   m_memory = VK_NULL_HANDLE;
   m_mapped = nullptr;
   m_capacity = 0;
@@ -17,7 +21,8 @@ void MemoryArena::release() {
 
 void MemoryArena::bind(const std::vector<Buffer*>& buffers) {
   const VkDevice device = m_context.device();
-  // Offsets in the block: each buffer at its own alignment after the one before.
+  // Offsets in the block: each buffer at its own alignment after the one before (and its guard).
+  const VkDeviceSize guard = memoryGuardsOn() ? kGuardBytes : 0;
   std::vector<VkDeviceSize> offsets;
   VkDeviceSize end = 0;
   uint32_t typeBits = ~0u;
@@ -27,7 +32,7 @@ void MemoryArena::bind(const std::vector<Buffer*>& buffers) {
     vkGetBufferMemoryRequirements(device, b->handle(), &req);
     const VkDeviceSize offset = (end + req.alignment - 1) / req.alignment * req.alignment;
     offsets.push_back(offset);
-    end = offset + req.size;
+    end = offset + req.size + guard;
     typeBits &= req.memoryTypeBits;
   }
   if (typeBits == 0) throw Error("memory arena '" + m_name + "': its buffers share no memory type");
@@ -43,6 +48,13 @@ void MemoryArena::bind(const std::vector<Buffer*>& buffers) {
       VKTG_VK_CHECK(vkMapMemory(device, m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
       m_coherent = m_context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
       m_readDirectly = m_context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    }
+  }
+  if (guard && m_mapped) {
+    releaseMemoryGuards(m_memory);
+    for (size_t k = 0; k < buffers.size(); ++k) {
+      const VkDeviceSize from = offsets[k] + buffers[k]->size(), to = k + 1 < buffers.size() ? offsets[k + 1] : end;
+      guardMemory(m_memory, static_cast<char*>(m_mapped) + from, to - from, buffers[k]->name());
     }
   }
   size_t i = 0;

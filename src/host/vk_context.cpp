@@ -6,6 +6,7 @@
 #include <cstring>
 #include <utility>
 
+#include "host/memory_guard.h"
 #include "host/vk_check.h"
 #include "vktg/error.h"
 
@@ -366,6 +367,7 @@ void VulkanContext::submitAndWait(VkCommandBuffer cmd) const {
                       "makes smaller batches)");
   }
   vkDestroyFence(m_device, fence, nullptr);
+  if (result == VK_SUCCESS && memoryGuardsOn()) checkMemoryGuards();
   if (result == VK_ERROR_DEVICE_LOST)
     throw DeviceFault(m_report.name + ": the Vulkan device was lost (VK_ERROR_DEVICE_LOST): the driver reset it "
                       "after a fault or a kernel that ran too long; nothing of this run can be trusted");

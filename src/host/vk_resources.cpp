@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "host/forced_choice.h"
+#include "host/memory_guard.h"
 #include "host/vk_check.h"
 #include "vktg/error.h"
 
@@ -54,8 +55,9 @@ Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind,
   vkGetBufferMemoryRequirements(m_device, m_buffer, &req);
   const VkMemoryPropertyFlags flags = memoryFlagsFor(context, req.memoryTypeBits, kind);
   const uint32_t typeIndex = context.findMemoryType(req.memoryTypeBits, flags);
+  const VkDeviceSize guard = memoryGuardsOn() && (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) ? kGuardBytes : 0;
   try {
-    m_memory = allocateDeviceMemory(context, req.size, typeIndex, name);
+    m_memory = allocateDeviceMemory(context, req.size + guard, typeIndex, name);
   } catch (...) {
     reset();
     throw;
@@ -68,6 +70,7 @@ Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind,
     // A readback buffer is the staging buffer itself: read directly even where no cached type exists.
     m_readDirectly = kind == MemoryKind::Readback ||
                      context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    if (guard) guardMemory(m_memory, static_cast<char*>(m_mapped) + size, req.size + guard - size, name);
   }
 }
 
@@ -89,7 +92,10 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
 
 void Buffer::reset() {
   if (m_buffer) vkDestroyBuffer(m_device, m_buffer, nullptr);
-  if (m_memory) vkFreeMemory(m_device, m_memory, nullptr);  // unmaps implicitly
+  if (m_memory) {
+    releaseMemoryGuards(m_memory);
+    vkFreeMemory(m_device, m_memory, nullptr);  // unmaps implicitly
+  }
   m_buffer = VK_NULL_HANDLE;
   m_memory = VK_NULL_HANDLE;
   m_mapped = nullptr;
