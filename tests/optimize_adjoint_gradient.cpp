@@ -290,6 +290,51 @@ TEST(GradAdjoint, EdgeStrategiesApartOrTogetherGiveTheSameGradient) {
   }
 }
 
+// Point lights follow the emitting triangles in the light table. When a displacement collapses one
+// of the lamp's two triangles (vertex 0 onto vertex 1: its area is exactly 0), the table loses an
+// entry and the bulb moves up one; an accumulator laid out before must still receive the bulb's
+// gradient in the bulb's slots, as a fresh one does.
+TEST(GradAdjoint, PointLightSlotsFollowTheLightTableWhenAnEmitterTriangleCollapses) {
+  const Scene scene = parseSceneJson(R"({
+    "version": 1,
+    "camera": {"type": "perspective", "position": [0, 1.2, 3], "look_at": [0, 0.2, 0], "fov_y": 40, "resolution": [12, 12]},
+    "gate": {"type": "box", "a": 5.2, "b": 6.4},
+    "materials": {"floor": {"type": "diffuse", "albedo": 0.6}},
+    "shapes": [
+      {"name": "floor", "type": "rectangle", "material": "floor", "transform": {"rotate": [-90, 0, 0], "scale": 2}},
+      {"name": "lamp", "type": "rectangle", "emission": 4, "transform": {"translate": [0, 1, 0], "scale": 0.25}}
+    ],
+    "lights": [{"type": "point", "name": "bulb", "position": [-0.8, 1.0, 0.6], "intensity": 1.5}],
+    "parameters": [
+      {"name": "bulb_y", "type": "light_position", "light": "bulb", "axis": [0, 1, 0]},
+      {"name": "pinch", "type": "displace", "shape": "lamp", "vertices": [0], "direction": [1, 0, 0]}
+    ],
+    "render": {"spp": 16, "max_depth": 3, "seed": 5}
+  })", "collapse.json", ".");
+  const std::vector<std::string> names = {"bulb_y", "pinch"};
+  const ParameterModel model = modelOf(scene, names);
+  const std::vector<double> before(model.size(), 0.0), collapsed = {0.0, 0.5};  // (-0.25, 0.75) onto (0.25, 0.75)
+  const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
+  const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
+  GradientOptions interiorOnly = options(0, 0);
+  interiorOnly.edges = interiorOnly.pathLength = false;
+  Renderer renderer(test::testRenderer().context());
+  DeviceScene deviceScene(renderer.context(), model, before, before);
+  AdjointState laidOutBefore;
+  lossGradient(renderer, deviceScene, {view}, interiorOnly, laidOutBefore);
+  ASSERT_EQ(deviceScene.prepared().lights.size(), 3u);  // the lamp's two triangles, the bulb
+  deviceScene.update(collapsed, false);
+  ASSERT_EQ(deviceScene.prepared().lights.size(), 2u);
+  AdjointState fresh;
+  fresh.scale = laidOutBefore.scale;
+  const LossGradient reused = lossGradient(renderer, deviceScene, {view}, interiorOnly, laidOutBefore);
+  const LossGradient anew = lossGradient(renderer, deviceScene, {view}, interiorOnly, fresh);
+  ASSERT_EQ(reused.attempts, 1u);
+  ASSERT_EQ(anew.attempts, 1u);
+  EXPECT_NE(anew.theta[0], 0.0) << "the bulb's height should change the image";
+  EXPECT_EQ(reused.theta[0], anew.theta[0]);
+}
+
 // A heightfield (four of its heights) under a near-delta gaussian with ellipsoidal connections and
 // antithetic pairs, lit by a point light.
 TEST(GradAdjoint, HeightfieldNearDeltaEllipsoidalAntithetic) {

@@ -14,7 +14,6 @@ GradientLayout gradientLayout(const Scene& scene, const PreparedScene& prepared)
   l.lights = l.emission + uint32_t(scene.shapes.size());
   l.vertices = l.lights + 4 * uint32_t(scene.pointLights.size());
   l.total = l.vertices + 3 * uint32_t(prepared.vertices.size());
-  l.firstPointLight = uint32_t(prepared.lights.size() - scene.pointLights.size());
   return l;
 }
 

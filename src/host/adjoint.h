@@ -16,7 +16,6 @@ namespace vktg {
 // Where each quantity's accumulators start (in int64 slots), as FrameUniforms.gradientLayout.
 struct GradientLayout {
   uint32_t materials = 1, emission = 1, lights = 1, vertices = 1, total = 1;
-  uint32_t firstPointLight = 0;  // index of the first point light in the lights array
 };
 
 GradientLayout gradientLayout(const Scene& scene, const PreparedScene& prepared);

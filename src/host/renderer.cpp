@@ -295,13 +295,16 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
 
   // Forward-mode inputs: per-lane vertex velocities and what each lane differentiates.
   std::optional<Buffer> velocityBuffer, laneBuffer;
+  // Point lights follow the emitting triangles in the light table, whose number an update can
+  // change (a deformed emitter's triangle of zero area drops out): taken from the table this render
+  // uses, not from when the gradient's accumulators were laid out.
+  const uint32_t firstPointLight = uint32_t(prepared.lights.size() - deviceScene.scene().pointLights.size());
   if (lanes > 0) {
     std::vector<glm::vec4> velocities(std::max<size_t>(1, size_t(lanes) * prepared.vertices.size()), glm::vec4(0.0f));
     for (uint32_t k = 0; k < lanes; ++k)
       for (size_t v = 0; v < options.derivativeLanes[k].vertexVelocity.size(); ++v)
         velocities[k * prepared.vertices.size() + v] = glm::vec4(options.derivativeLanes[k].vertexVelocity[v], 0.0f);
     velocityBuffer = uploaded(context, velocities, "derivative.vertexVelocity");
-    const uint32_t firstPointLight = uint32_t(prepared.lights.size() - deviceScene.scene().pointLights.size());
     laneBuffer = uploaded(context, laneTable(options.derivativeLanes, firstPointLight), "derivative.lanes");
   }
 
@@ -327,7 +330,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   if (adjoint) {
     const GradientLayout& g = adjoint->gradient->layout();
     frame.gradientLayout = glm::uvec4(g.materials, g.emission, g.lights, g.vertices);
-    frame.adjointInfo = glm::uvec4(g.firstPointLight, 0, 0, 0);
+    frame.adjointInfo = glm::uvec4(firstPointLight, 0, 0, 0);
     frame.adjointScale = glm::vec4(float(adjoint->scale), 0, 0, 0);
   }
   const Buffer& frameBuffer =
