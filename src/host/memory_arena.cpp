@@ -50,7 +50,7 @@ void MemoryArena::bind(const std::vector<Buffer*>& buffers) {
       m_readDirectly = m_context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
     }
   }
-  if (guard && m_mapped) {
+  if (guard && m_mapped && m_readDirectly) {
     releaseMemoryGuards(m_memory);
     for (size_t k = 0; k < buffers.size(); ++k) {
       const VkDeviceSize from = offsets[k] + buffers[k]->size(), to = k + 1 < buffers.size() ? offsets[k + 1] : end;

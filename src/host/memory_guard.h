@@ -1,8 +1,10 @@
-// Guards after device buffers (VKTG_GUARD_MEMORY=1; the tests turn it on): each mapped device
-// allocation gets kGuardBytes after every buffer in it, filled with a pattern and checked after
-// every submission. On lavapipe device memory is the host's heap, where a pass writing past a
+// Guards after device buffers (VKTG_GUARD_MEMORY=1; the tests turn it on): each device allocation
+// the host maps cached gets kGuardBytes after every buffer in it, filled with a pattern and checked
+// after every submission. On lavapipe device memory is the host's heap, where a pass writing past a
 // buffer's end corrupts whatever lies there and surfaces, if at all, as a crash far away; with the
-// guards the submission that wrote it fails, naming the buffer. Memory the host cannot map has none.
+// guards the submission that wrote it fails, naming the buffer. Memory the host cannot map has none,
+// nor has a GPU's memory mapped uncached, which the host would read back at tens of MB/s after
+// every submission.
 #pragma once
 #include <cstddef>
 #include <string>

@@ -130,9 +130,10 @@ void PassPipelines::prepare(const std::vector<std::pair<std::string, SpecValues>
   // pipeline cache synchronises itself (it was not created externally synchronised). A thread that
   // cannot be started leaves its pipeline to this one. On a CPU device, one after another: lavapipe
   // (Mesa 22.3) makes each pipeline's shader through its queue's gallium context, which is not made
-  // for several threads at once; valgrind's helgrind sees the creating threads read and write
-  // lavapipe's globals unsynchronised, and two CI runs whose only threads of our own were these died
-  // of a corrupted heap and a segmentation fault. VKTG_PIPELINE_CREATION=parallel|serial overrides.
+  // for several threads at once, and valgrind's helgrind sees the creating threads read and write
+  // lavapipe's globals unsynchronised (a CI run's vktg died of a segmentation fault in its start-up;
+  // a heap corruption seen beside it recurred without these threads: docs/robustness.md, "Threads").
+  // VKTG_PIPELINE_CREATION=parallel|serial overrides.
   std::vector<VkPipeline> created(n, VK_NULL_HANDLE);
   std::vector<VkResult> results(n, VK_SUCCESS);
   auto create = [&](size_t k) {

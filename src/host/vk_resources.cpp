@@ -55,7 +55,9 @@ Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind,
   vkGetBufferMemoryRequirements(m_device, m_buffer, &req);
   const VkMemoryPropertyFlags flags = memoryFlagsFor(context, req.memoryTypeBits, kind);
   const uint32_t typeIndex = context.findMemoryType(req.memoryTypeBits, flags);
-  const VkDeviceSize guard = memoryGuardsOn() && (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) ? kGuardBytes : 0;
+  const bool cached = (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) &&
+                      context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  const VkDeviceSize guard = memoryGuardsOn() && cached ? kGuardBytes : 0;
   try {
     m_memory = allocateDeviceMemory(context, req.size + guard, typeIndex, name);
   } catch (...) {
