@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "host/bench_optimize.h"
+#include "opt/term_allocation.h"
 #include "support/cli_runner.h"
 #include "support/gpu_context.h"
 
@@ -36,9 +37,10 @@ TEST(CliBenchOptimize, EveryRowTimedAndEveryPassProfiled) {
     for (std::string cell; std::getline(in, cell, ',');) cells.push_back(std::stod(cell));
     ASSERT_EQ(cells.size(), 21u) << row;
     for (size_t c = 6; c <= 18; ++c) EXPECT_TRUE(std::isfinite(cells[c]) && cells[c] > 0) << row << ": column " << c;
-    // The term pilot's counts (edges, boundary, its connections from the camera): at least one
-    // sample, at most kTermPilotMaxFactor times the render's 2.
-    for (size_t c : {13, 14, 15}) EXPECT_TRUE(cells[c] >= 1 && cells[c] <= 16) << row << ": column " << c;
+    // The term pilot's counts (edges, boundary, its connections from the camera): at least
+    // kTermPilotMinSpp per pixel, at most kTermPilotMaxFactor times the render's 2.
+    for (size_t c : {13, 14, 15})
+      EXPECT_TRUE(cells[c] >= kTermPilotMinSpp && cells[c] <= kTermPilotMaxFactor * 2) << row << ": column " << c;
   }
   const std::string log = r.out + r.err;
   for (const char* pass : {"render: ", "interior/shade_adj", "edges/sample_edges", "boundary/shade_adj",

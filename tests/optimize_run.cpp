@@ -201,12 +201,12 @@ TEST(OptimizeTermPilot, ChoosesTermSamplesOnceAndTheRunIsThatOfItsChoice) {
   EXPECT_EQ(pilotLines(reported), 1);
   const nlohmann::json info = nlohmann::json::parse(test::readFileBytes(dir / "parts" / "run.json"));
   ASSERT_TRUE(info.contains("term_pilot")) << info.dump();
-  const uint32_t edge = info["term_pilot"].at("spp_edge"), boundary = info["term_pilot"].at("spp_boundary");
-  const uint32_t camera = info["term_pilot"].at("spp_boundary_camera");
-  std::printf("  the pilot chose %u edge, %u boundary and %u camera-boundary samples per pixel\n", edge, boundary, camera);
-  for (uint32_t spp : {edge, boundary, camera}) {
-    EXPECT_GE(spp, 1u);
-    EXPECT_LE(spp, kTermPilotMaxFactor * 16u);
+  const double edge = info["term_pilot"].at("spp_edge"), boundary = info["term_pilot"].at("spp_boundary");
+  const double camera = info["term_pilot"].at("spp_boundary_camera");
+  std::printf("  the pilot chose %g edge, %g boundary and %g camera-boundary samples per pixel\n", edge, boundary, camera);
+  for (double spp : {edge, boundary, camera}) {
+    EXPECT_GE(spp, kTermPilotMinSpp);
+    EXPECT_LE(spp, kTermPilotMaxFactor * 16.0);
   }
 
   reported.clear();

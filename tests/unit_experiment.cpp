@@ -224,6 +224,8 @@ const BadCase kCases[] = {
     {"zero spp", [](json& j) { j["render"]["spp"] = 0; }, "render.spp", "out of range"},
     {"zero edge spp", [](json& j) { j["render"]["spp_edge"] = 0; }, "render.spp_edge", "out of range"},
     {"edge spp word", [](json& j) { j["render"]["spp_edge"] = "pilot"; }, "render.spp_edge", "unknown value"},
+    {"negative boundary spp", [](json& j) { j["render"]["spp_boundary"] = -0.5; }, "render.spp_boundary", "out of range"},
+    {"huge camera spp", [](json& j) { j["render"]["spp_boundary_camera"] = 1e12; }, "render.spp_boundary_camera", "out of range"},
     {"boundary spp of wrong type", [](json& j) { j["render"]["spp_boundary"] = true; }, "render.spp_boundary", "wrong type"},
     {"camera boundary spp word", [](json& j) { j["render"]["spp_boundary_camera"] = "pilot"; }, "render.spp_boundary_camera",
      "unknown value"},
@@ -452,7 +454,11 @@ TEST(Experiment, TermSamplesMayBeLeftToThePilot) {
   j["render"]["spp_edge"] = 3;
   x = parseExperimentJson(j.dump(), kFile, kData);
   EXPECT_FALSE(x.budget.sppEdgeAuto);
-  EXPECT_EQ(x.budget.sppEdge, 3u);
+  EXPECT_EQ(x.budget.sppEdge, 3.0);
+  // Fewer samples than pixels, as the pilot may choose: a fraction.
+  j["render"]["spp_edge"] = 0.375;
+  EXPECT_EQ(parseExperimentJson(j.dump(), kFile, kData).budget.sppEdge, 0.375);
+  j["render"]["spp_edge"] = 3;
   EXPECT_TRUE(x.budget.sppBoundaryAuto);
   // The boundary's connections from the camera follow "spp_boundary" unless given their own.
   EXPECT_TRUE(x.budget.sppBoundaryCameraAuto);
@@ -460,12 +466,12 @@ TEST(Experiment, TermSamplesMayBeLeftToThePilot) {
   x = parseExperimentJson(j.dump(), kFile, kData);
   EXPECT_TRUE(x.budget.sppBoundaryAuto);
   EXPECT_FALSE(x.budget.sppBoundaryCameraAuto);
-  EXPECT_EQ(x.budget.sppBoundaryCamera, 5u);
+  EXPECT_EQ(x.budget.sppBoundaryCamera, 5.0);
   j["render"]["spp_boundary"] = 7;
   j["render"].erase("spp_boundary_camera");
   x = parseExperimentJson(j.dump(), kFile, kData);
   EXPECT_FALSE(x.budget.sppBoundaryCameraAuto);
-  EXPECT_EQ(x.budget.sppBoundaryCamera, 7u);
+  EXPECT_EQ(x.budget.sppBoundaryCamera, 7.0);
   j["render"]["spp_boundary_camera"] = "auto";
   x = parseExperimentJson(j.dump(), kFile, kData);
   EXPECT_FALSE(x.budget.sppBoundaryAuto);

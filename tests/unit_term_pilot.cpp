@@ -78,12 +78,22 @@ TEST(TermPilot, FixedCostsDoNotCountAgainstSamples) {
 }
 
 TEST(TermPilot, ClampsAndTheSharedPathsOfTheBoundaryTerm) {
-  // Edges with no variance get one sample; a boundary term 100x as noisy per second is capped at 8x.
+  // Edges with no variance get the fewest samples; a boundary term 100x as noisy per second is
+  // capped at 8x.
   auto a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01), runs("edges", {0}, {0.0}, 0.0, 0.01),
                                 runs("boundary", {0}, {10.0}, 0.0, 0.01)},
                                16);
-  EXPECT_EQ(a.sppEdge, 1u);
+  EXPECT_EQ(a.sppEdge, kTermPilotMinSpp);
   EXPECT_EQ(a.sppBoundary, 8u * 16u);
+  // Below a sample per pixel the allocation is not rounded up to one: 0.3 of the interior's 10
+  // samples (variance 0.09x at the same time) is 3 samples, 0.03 of them 0.3, in sixteenths 0.3125.
+  a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01, 10), runs("edges", {0}, {0.3}, 0.0, 0.01, 10),
+                           runs("boundary-camera", {0}, {0.03}, 0.0, 0.01, 10)},
+                          10);
+  EXPECT_EQ(a.sppEdge, 3.0);
+  EXPECT_EQ(a.sppBoundaryCamera, 0.3125);
+  EXPECT_EQ(roundTermSpp(0.97), 1.0);
+  EXPECT_EQ(roundTermSpp(2.4), 2.0);
   // A boundary term at 1.3x the interior's samples (variance 1.69x, same time) is set equal to it;
   // at 1.6x it is not.
   a = allocateTermSamples({runs("interior", {0}, {1.0}, 0.0, 0.01, 10), runs("boundary", {0}, {1.3}, 0.0, 0.01, 10)}, 10);
@@ -108,7 +118,7 @@ TEST(TermPilot, ParametersCountRelativeToTheirOwnGradient) {
                                       runs("edges", {0.0, 0.0}, {1.0, 0.0}, 0.0, 0.01)},
                                      16);
   EXPECT_GT(cost(a, "interior").variance, 1e5 * cost(a, "edges").variance);
-  EXPECT_EQ(a.sppEdge, 1u);
+  EXPECT_EQ(a.sppEdge, kTermPilotMinSpp);
 }
 
 TEST(TermPilot, KeepsTheExperimentsSamplesWithoutAnInteriorReference) {

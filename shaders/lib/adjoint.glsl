@@ -83,10 +83,11 @@ void scatterPointLight(uint light, float intensity, vec3 position) {
 }
 
 // d loss / d I of `pixel` in gate layer `layer`, divided by the samples every pixel's mean averages
-// (frame.image.z: spp, or all samples of a splatted render): what one sample's contribution to the
+// (frame.adjointScale.y: the samples per pixel, fractional where the render spreads fewer paths
+// than pixels, or all samples of a splatted render's view): what one sample's contribution to the
 // pixel's mean is weighted by.
 float adjointOf(uint pixel, uint layer) {
-  return adjointImage[layer * frame.image.x * frame.image.y + pixel] / float(frame.image.z);
+  return adjointImage[layer * frame.image.x * frame.image.y + pixel] / frame.adjointScale.y;
 }
 
 // (sum_k a_k W_k(L), sum_k a_k W'_k(L)) over the layers a path of length L reaches.

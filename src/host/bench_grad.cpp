@@ -200,7 +200,7 @@ BenchGradReport benchGrad(VulkanContext& context, const BenchGradOptions& option
         times.push_back(g.stats.seconds);
         errors.push_back(normalizedMse(g.total.derivatives[0].layers[0].pixels, reference));
       }
-      record({"default 32x32", "box 4-5.5 m (edge term)", "edge samples", go.sppEdge, median(times), median(errors)});
+      record({"default 32x32", "box 4-5.5 m (edge term)", "edge samples", firstSpp << step, median(times), median(errors)});
     }
   }
 

@@ -219,7 +219,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
                   row.checkSeconds, row.iterationSeconds() / row.renderSeconds);
     options.say(line);
     std::snprintf(line, sizeof line,
-                  "  with the term pilot's samples (edges %u, path-length boundary %u, from the camera %u per pixel; "
+                  "  with the term pilot's samples (edges %g, path-length boundary %g, from the camera %g per pixel; "
                   "predicted variance %.2fx): all terms %.2fx, iteration %.2fx the render",
                   row.pilotSppEdge, row.pilotSppBoundary, row.pilotSppBoundaryCamera, row.pilotVarianceRatio, row.pilotAllSeconds / row.renderSeconds,
                   row.iterationSeconds(true) / row.renderSeconds);
@@ -285,7 +285,7 @@ void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOpti
   char cell[512];
   for (const BenchOptimizeRow& r : report.rows) {
     std::snprintf(cell, sizeof cell,
-                  "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %s | %.4f | %.4f | %s | %u, %u, %u, %.2fx | %s | **%s** | %s (%u) |\n",
+                  "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %s | %.4f | %.4f | %s | %g, %g, %g, %.2fx | %s | **%s** | %s (%u) |\n",
                   r.size, r.size, (unsigned long long)r.parameters, (unsigned long long)r.triangles, r.renderSeconds,
                   ratio(r.interiorSeconds, r.renderSeconds).c_str(), ratio(r.edgeSeconds, r.renderSeconds).c_str(),
                   ratio(r.boundarySeconds, r.renderSeconds).c_str(), ratio(r.allSeconds, r.renderSeconds).c_str(),

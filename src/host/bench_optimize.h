@@ -35,7 +35,7 @@ struct BenchOptimizeRow {
   // gives the edge and path-length-boundary terms (the latter's connections from path vertices and
   // from the camera), all terms at those samples, and the variance of that gradient it predicts
   // relative to all terms at the render's samples.
-  uint32_t pilotSppEdge = 0, pilotSppBoundary = 0, pilotSppBoundaryCamera = 0;
+  double pilotSppEdge = 0, pilotSppBoundary = 0, pilotSppBoundaryCamera = 0;
   double pilotAllSeconds = 0, pilotVarianceRatio = 0;
   uint32_t denseLanes = 0;        // parameters of the forward-mode contrast
   double denseSeconds = 0;        // their derivative images (all terms)

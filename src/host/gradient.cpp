@@ -140,7 +140,14 @@ const char* termName(Term term) {
 struct TermPass {
   Term term;
   RenderOptions options;
-  uint32_t spp;
+  double spp;  // samples per pixel, possibly fractional (0: the setup's)
+
+  // The setup and options of this pass's render.
+  void apply(RenderSetup& setup) {
+    if (!(spp > 0)) return;
+    setup.settings.spp = uint32_t(std::ceil(spp));
+    if (double(setup.settings.spp) != spp) options.samplesPerPixel = spp;
+  }
 };
 
 // Whether a loss gradient traces the interior and per-pixel path-length-boundary terms' paths once.
@@ -247,9 +254,9 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
     result.primal = renderOf(renderer, deviceScene, setup, views, plain);
     addStats(result.stats, result.primal.stats);
   }
-  for (const TermPass& pass : passes) {
+  for (TermPass& pass : passes) {
     RenderSetup termSetup = setup;
-    if (pass.spp > 0) termSetup.settings.spp = pass.spp;
+    pass.apply(termSetup);
     TermImages images = renderTerm(renderer, deviceScene, termSetup, views, bindings, pass.options, result.stats,
                                    pass.term == Term::Interior ? &result.primal : nullptr);
     accumulateTerm(result.total, images);
@@ -407,7 +414,7 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
       AdjointTarget target{&state.images[g], state.accumulator.get(), scale, targets, k == 0, k + 1 == renders.size(),
                            groupsFirst ? staged[g] : nullptr};
       RenderSetup termSetup = first.setup;
-      if (pass.spp > 0) termSetup.settings.spp = pass.spp;
+      pass.apply(termSetup);
       pass.options.adjoint = &target;
       const RenderResult r = renderGroup(renderer, scene, views, groups[g], termSetup, pass.options);
       addStats(stats, r.stats);

@@ -23,9 +23,11 @@ struct GradientOptions {
   // connections from the paths' own vertices (per pixel), and from the camera (splatted).
   bool pathLengthPerPixel = true, pathLengthFromCamera = true;
   bool edges = true;                // likewise
-  uint32_t sppBoundary = 0;         // samples per pixel of the path-length-boundary pass (0: the scene's spp)
-  uint32_t sppBoundaryCamera = 0;   // of its connections from the camera (0: sppBoundary's)
-  uint32_t sppEdge = 0;             // edge samples per pixel, on average, of the edge pass (0: the scene's spp)
+  // Samples per pixel of the other terms' passes, on average: fractional counts (the term pilot's)
+  // in loss gradients only, whose per-pixel passes then spread their paths over the pixels.
+  double sppBoundary = 0;           // of the path-length-boundary pass (0: the scene's spp)
+  double sppBoundaryCamera = 0;     // of its connections from the camera (0: sppBoundary's)
+  double sppEdge = 0;               // edge samples per pixel of the edge pass (0: the scene's spp)
   AntitheticMode antithetic = AntitheticMode::Auto;
   // Loss gradients: the interior and per-pixel path-length-boundary terms from one trace of the
   // paths when both run at the same spp (false: a trace each, the same sum; for comparisons).

@@ -288,9 +288,9 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       (e.budget.sppEdgeAuto || e.budget.sppBoundaryAuto || e.budget.sppBoundaryCameraAuto) && !e.budget.finiteDifferences;
   // The term pilot's choice (run.json keeps it): applied where the experiment asked for "auto".
   auto applyPilot = [&] {
-    if (e.budget.sppEdgeAuto && info.pilotSppEdge) gradient.sppEdge = info.pilotSppEdge;
-    if (e.budget.sppBoundaryAuto && info.pilotSppBoundary) gradient.sppBoundary = info.pilotSppBoundary;
-    if (e.budget.sppBoundaryCameraAuto && info.pilotSppBoundaryCamera) gradient.sppBoundaryCamera = info.pilotSppBoundaryCamera;
+    if (e.budget.sppEdgeAuto && info.pilotSppEdge > 0) gradient.sppEdge = info.pilotSppEdge;
+    if (e.budget.sppBoundaryAuto && info.pilotSppBoundary > 0) gradient.sppBoundary = info.pilotSppBoundary;
+    if (e.budget.sppBoundaryCameraAuto && info.pilotSppBoundaryCamera > 0) gradient.sppBoundaryCamera = info.pilotSppBoundaryCamera;
   };
   if (termPilot && info.pilotDone) applyPilot();
   RenderOptions primalOptions;

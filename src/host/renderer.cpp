@@ -14,6 +14,7 @@
 #include "host/pass_pipelines.h"
 #include "host/pass_profiler.h"
 #include "host/wavefront.h"
+#include "scene/seeds.h"
 #include "vktg/error.h"
 
 namespace vktg {
@@ -216,12 +217,22 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   if (uint64_t(viewHeight) * viewCount >= (uint64_t(1) << 31)) throw Error("render: too many views for one render");
   const uint32_t height = viewHeight * viewCount;
   const uint64_t pixels = uint64_t(width) * height;
-  // The edge term counts edge samples (each owns two path slots); the others count paths.
-  const uint64_t totalPaths = pixels * settings.spp;
   const bool edges = options.edges, fromCamera = options.pathLengthFromCamera;
   // Splatted samples (edge term, path-length boundary from the camera) own two path slots each and
   // land in the pixels their camera connections reach.
   const bool splat = edges || fromCamera;
+  // The edge term counts edge samples (each owns two path slots); the others count paths.
+  uint64_t totalPaths = pixels * settings.spp;
+  if (options.samplesPerPixel > 0) {
+    if (!splat && !adjoint) throw Error("internal: a fractional sample count needs a splatted or an adjoint render");
+    if (!(options.samplesPerPixel * double(pixels) < 0x1p40)) throw Error("render: too many samples for one render");
+    // Splatted samples are counted per view: as many in each.
+    const uint64_t unit = splat ? viewCount : 1, units = pixels / unit;
+    totalPaths = unit * std::max<uint64_t>(1, uint64_t(std::llround(options.samplesPerPixel * double(units))));
+  }
+  // Per-pixel paths fewer than (or not a multiple of) the pixels start from a pixel the seed draws,
+  // so that every pixel gets totalPaths / pixels of them on average.
+  const uint64_t firstPixel = !splat && totalPaths % pixels != 0 ? derivedSeed(settings.seed) % pixels : 0;
   const uint32_t slotsPerSample = splat ? 2 : 1;
   if (edges && (!derivative || options.pathLengthBoundary))
     throw Error("internal: the edge term needs derivatives and excludes the path-length-boundary term");
@@ -236,7 +247,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
                 " splatted samples are too many for one render");
   // The first batch zeroes what the render accumulates into and the last copies it out.
   if (totalPaths == 0) throw Error("internal: a render needs at least one sample");
-  if (pixels * settings.spp > (uint64_t(1) << 32) * 8)
+  if (totalPaths > (uint64_t(1) << 32) * 8)
     throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
 
   // An adjoint render produces no image: its film stays empty.
@@ -331,7 +342,10 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     const GradientLayout& g = adjoint->gradient->layout();
     frame.gradientLayout = glm::uvec4(g.materials, g.emission, g.lights, g.vertices);
     frame.adjointInfo = glm::uvec4(firstPointLight, 0, 0, 0);
-    frame.adjointScale = glm::vec4(float(adjoint->scale), 0, 0, 0);
+    // What a sample's contribution to its pixel's mean is weighted by (adjointOf): one over the
+    // samples per pixel, or over the samples of the view of a splatted render.
+    const double samplesPerMean = splat ? double(totalPaths / viewCount) : double(totalPaths) / double(pixels);
+    frame.adjointScale = glm::vec4(float(adjoint->scale), float(samplesPerMean), 0, 0);
   }
   const Buffer& frameBuffer =
       grownBuffer(context, m_impl->frameBlock, sizeof frame + records.size() * sizeof(glm::vec4), MemoryKind::Device, "frame");
@@ -490,8 +504,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   while (done < totalPaths) {
     throwIfInterrupted();
     uint32_t active = uint32_t(std::min<uint64_t>(samplesPerBatch, totalPaths - done));
-    uint32_t firstSample = uint32_t(done / pixels);
-    uint32_t firstLinear = uint32_t(done - uint64_t(firstSample) * pixels);
+    uint32_t firstSample = uint32_t((done + firstPixel) / pixels);
+    uint32_t firstLinear = uint32_t(done + firstPixel - uint64_t(firstSample) * pixels);
     cmdBuffer.begin();
     profiler.reset(cmd);
     if (done == 0) {

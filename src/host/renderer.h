@@ -67,6 +67,12 @@ struct RenderOptions {
   // Antithetic pairs (THEORY.md §5): ellipsoidal connections at s and 2 mu - s (gaussian gates);
   // in the path-length-boundary term, connections to both jumps of a box or truncated gaussian.
   bool antithetic = false;
+  // > 0: the samples per pixel, on average, in place of settings.spp, and it may be fractional: in
+  // splatted renders (edges, connections from the camera) any number of samples, in per-pixel
+  // adjoint renders round(samplesPerPixel x pixels) paths spread over the pixels from an offset the
+  // seed draws, so that every pixel is reached as often on average (the term pilot's allocations
+  // below one sample per pixel). Contributions are weighted by 1 / this mean either way.
+  double samplesPerPixel = 0;
 };
 
 inline constexpr uint32_t kMaxDerivativeLanes = 4;

@@ -66,7 +66,7 @@ TermAllocation runTermPilot(Renderer& renderer, DeviceScene& scene, const std::v
 std::vector<std::string> describeAllocation(const TermAllocation& a) {
   std::vector<std::string> lines = a.reasons;
   for (const TermCost& t : a.terms)
-    lines.push_back(formatReason("  %s: variance %.3g, %.3g s + %.3g s per gradient at the interior's samples -> %u spp",
+    lines.push_back(formatReason("  %s: variance %.3g, %.3g s + %.3g s per gradient at the interior's samples -> %g spp",
                                  t.term.c_str(), t.variance, t.fixedSeconds, t.sampleSeconds, t.spp));
   if (!a.terms.empty() && (a.sppEdge || a.sppBoundary || a.sppBoundaryCamera))
     lines.push_back(formatReason("  predicted against every term at the interior's samples: variance %.2fx, seconds %.2fx",

@@ -491,16 +491,20 @@ class ExperimentParser {
     BudgetSpec& b = m_x.budget;
     b.sppPrimal = o.uinteger("spp", b.sppPrimal, 1, kMaxSpp);
     b.sppInterior = o.uinteger("spp_interior", b.sppInterior, 1, kMaxSpp);
-    // A count, or "auto": the term pilot's choice.
-    auto termSpp = [&](const char* key, uint32_t& spp, bool& pilot) {
-      if (o.has(key) && o.field(key).json().is_string()) {
-        o.field(key).oneOf({"auto"});
+    // Samples per pixel on average, fractions allowed (fewer samples than pixels, spread over
+    // them), or "auto": the term pilot's choice.
+    auto termSpp = [&](const char* key, double& spp, bool& pilot) {
+      if (!o.has(key)) return;
+      const JsonValue v = o.field(key);
+      if (v.json().is_string()) {
+        v.oneOf({"auto"});
         pilot = true;
         return;
       }
-      if (o.has(key) && !o.field(key).json().is_number())
-        o.field(key).fail("wrong type: expected a sample count or \"auto\"");
-      spp = o.uinteger(key, spp, 1, kMaxSpp);
+      if (!v.json().is_number()) v.fail("wrong type: expected a number of samples per pixel or \"auto\"");
+      spp = v.json().get<double>();
+      requireAbove(v, spp, 0.0);
+      requireInRange(v, spp, 0.0, double(kMaxSpp));
     };
     termSpp("spp_edge", b.sppEdge, b.sppEdgeAuto);
     termSpp("spp_boundary", b.sppBoundary, b.sppBoundaryAuto);

@@ -98,11 +98,13 @@ struct PreconditionerSpec {
 struct BudgetSpec {
   uint32_t sppPrimal = 16;          // the render the loss and its adjoint image come from
   uint32_t sppInterior = 16;
-  uint32_t sppEdge = 16;
-  uint32_t sppBoundary = 16;
+  // The other terms' samples per pixel on average (fractions allowed: loss gradients spread fewer
+  // samples than pixels over the image).
+  double sppEdge = 16;
+  double sppBoundary = 16;
   // The path-length boundary's connections from the camera (splatted); left out, as sppBoundary
   // (its count or "auto").
-  uint32_t sppBoundaryCamera = 16;
+  double sppBoundaryCamera = 16;
   // "auto": the term's samples come from a pilot at the first iteration (host/term_pilot.h).
   bool sppEdgeAuto = false, sppBoundaryAuto = false, sppBoundaryCameraAuto = false;
   bool interior = true, edge = true, pathLength = true;  // the planner still drops terms that cannot contribute

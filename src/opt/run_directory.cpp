@@ -99,10 +99,14 @@ RunInfo readRunInfo(const fs::path& directory) {
     info.experiment = j.at("experiment").get<std::string>();
     info.memoryBudget = j.at("memory_budget").get<uint64_t>();
     if (j.contains("term_pilot")) {
-      info.pilotSppEdge = j.at("term_pilot").at("spp_edge").get<uint32_t>();
-      info.pilotSppBoundary = j.at("term_pilot").at("spp_boundary").get<uint32_t>();
+      info.pilotSppEdge = j.at("term_pilot").at("spp_edge").get<double>();
+      info.pilotSppBoundary = j.at("term_pilot").at("spp_boundary").get<double>();
       // Runs from before the pilot timed the camera's connections apart gave them the boundary's.
       info.pilotSppBoundaryCamera = j.at("term_pilot").value("spp_boundary_camera", info.pilotSppBoundary);
+      for (const auto& [field, spp] : {std::pair{"spp_edge", info.pilotSppEdge}, std::pair{"spp_boundary", info.pilotSppBoundary},
+                                       std::pair{"spp_boundary_camera", info.pilotSppBoundaryCamera}})
+        if (!(spp >= 0 && spp <= double(1u << 24)))
+          fail(path.string(), std::string("term_pilot.") + field, "must be a number of samples per pixel in [0, 2^24]");
       info.pilotDone = true;
     }
   } catch (const nlohmann::json::exception& e) {

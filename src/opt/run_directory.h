@@ -20,7 +20,7 @@ struct RunInfo {
   // Samples of the edge and path-length-boundary terms that the term pilot chose ("spp_edge",
   // "spp_boundary" or "spp_boundary_camera": "auto"; 0 where it has not run or the term keeps the
   // experiment's): measured once, so that a resumed run uses the original's.
-  uint32_t pilotSppEdge = 0, pilotSppBoundary = 0, pilotSppBoundaryCamera = 0;
+  double pilotSppEdge = 0, pilotSppBoundary = 0, pilotSppBoundaryCamera = 0;
   bool pilotDone = false;
 };
 

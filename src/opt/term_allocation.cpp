@@ -40,6 +40,10 @@ void termStatistics(const TermPilotRuns& run, size_t parameters, std::vector<dou
 
 }  // namespace
 
+double roundTermSpp(double spp) {
+  return spp >= 1.0 ? std::round(spp) : std::round(spp * kTermPilotSppSteps) / kTermPilotSppSteps;
+}
+
 uint32_t termPilotSpp(uint32_t round, uint32_t spp) {
   if (round % 2 == 0) return spp;
   return spp > 1 ? spp / 2 : 2;
@@ -80,11 +84,11 @@ TermAllocation allocateTermSamples(const std::vector<TermPilotRuns>& runs, uint3
   for (TermCost& t : a.terms) {
     const double ratio = t.sampleSeconds > 0 ? std::sqrt(t.variance / t.sampleSeconds) / reference : 0.0;
     // A term that adds no measured variance gets the fewest samples (still unbiased).
-    double spp = t.term == "interior" ? double(sppInterior) : std::round(ratio * sppInterior);
-    spp = std::clamp(spp, 1.0, double(kTermPilotMaxFactor) * sppInterior);
+    double spp = t.term == "interior" ? double(sppInterior) : roundTermSpp(ratio * sppInterior);
+    spp = std::clamp(spp, kTermPilotMinSpp, double(kTermPilotMaxFactor) * sppInterior);
     if (t.term == "boundary" && ratio * kTermPilotShareFactor >= 1.0 && ratio <= kTermPilotShareFactor)
       spp = sppInterior;
-    t.spp = uint32_t(spp);
+    t.spp = spp;
     const double x = spp / sppInterior;
     variance += t.variance, allocatedVariance += t.variance / x;
     seconds += t.fixedSeconds + t.sampleSeconds, allocatedSeconds += t.fixedSeconds + t.sampleSeconds * x;

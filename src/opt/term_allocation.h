@@ -34,12 +34,13 @@ struct TermCost {
   double variance = 0;          // Σ_k Var(g_ik) / E[g_k²] at the reference samples (see allocateTermSamples)
   double fixedSeconds = 0;      // f_i: per gradient, whatever its samples
   double sampleSeconds = 0;     // P_i: the part that scales with the samples, at the reference samples
-  uint32_t spp = 0;             // what the allocation gives the term
+  double spp = 0;               // what the allocation gives the term (samples per pixel, on average)
 };
 
 struct TermAllocation {
-  // 0: the term did not run in the pilot (keep the experiment's)
-  uint32_t sppEdge = 0, sppBoundary = 0, sppBoundaryCamera = 0;
+  // Samples per pixel, fractional below 1 (roundTermSpp); 0: the term did not run in the pilot (keep
+  // the experiment's).
+  double sppEdge = 0, sppBoundary = 0, sppBoundaryCamera = 0;
   std::vector<TermCost> terms;
   // Predicted variance of a gradient at the allocation, relative to every term at the interior's
   // samples (the same weighting), and its predicted seconds relative to theirs.
@@ -56,10 +57,16 @@ inline constexpr uint32_t kTermPilotRounds = 6;
 // Samples per pixel of round `round` when the interior term has `spp`: even rounds at spp, odd ones
 // at spp / 2 (at 2 when spp is 1).
 uint32_t termPilotSpp(uint32_t round, uint32_t spp);
-// Allocations stay within [1, kTermPilotMaxFactor × the interior's samples]: a term measured with
-// little variance still gets a sample per pixel (unbiased either way), and a noisy pilot cannot ask
-// for a gradient many times the experiment's.
+// Allocations stay within [kTermPilotMinSpp, kTermPilotMaxFactor × the interior's samples]: a term
+// measured with little variance still gets a sample every few pixels (unbiased either way; its
+// variance estimate, from a few rounds, may be low), and a noisy pilot cannot ask for a gradient
+// many times the experiment's. Below one sample per pixel a term's passes take whole samples
+// spread over the pixels (RenderOptions::samplesPerPixel), so the optimum is not rounded up to one:
+// allocations round to whole samples per pixel from 1 up, to sixteenths below.
 inline constexpr uint32_t kTermPilotMaxFactor = 8;
+inline constexpr double kTermPilotMinSpp = 0.125;
+inline constexpr double kTermPilotSppSteps = 16;
+double roundTermSpp(double spp);
 // The part of a term's time at the reference samples that the allocation takes to scale with them,
 // at least: a launch-bound term (all fixed, within timing noise) would otherwise be given samples
 // as if they were free.

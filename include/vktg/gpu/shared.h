@@ -330,7 +330,8 @@ struct FrameUniforms {
   // z: point lights (intensity, position xyz each), w: vertices (xyz each).
   uvec4 gradientLayout;
   uvec4 adjointInfo;      // x: index of the first point light in the lights array, y-w unused
-  vec4 adjointScale;      // x: accumulators hold round(value * x) (a power of two), y-w unused
+  vec4 adjointScale;      // x: accumulators hold round(value * x) (a power of two), y: the samples a pixel's
+                          // mean averages (adjointOf), z-w unused
   // A render of several views (kSpecMultiView; lib/view.glsl): x views, y image rows of one view
   // (image.y counts the rows of all of them, stacked), z vec4s per view record in the frame block's
   // view array, w lights[] index of the first point light. One view: (1, image.y, 0, -).
