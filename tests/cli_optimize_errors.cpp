@@ -123,5 +123,27 @@ TEST(OptimizeBadRunDirectory, UnwritableOrForeignDirectoriesAreRefused) {
   EXPECT_NE(r.err.find("run.json"), std::string::npos) << r.err;
 }
 
+TEST(OptimizeBadRunDirectory, AResumedRunRefusesANegativeTermPilotCount) {
+  TempDir dir;
+  writeExr(dir / "right.exr", image(8, 8, 1, 0.1f));
+  const fs::path file = dir / "experiment.json";
+  test::writeFileBytes(file, experiment(R"("image": "right.exr")", R"({"name": "grey", "initial": 0.3})",
+                                        R"(, "stop": {"iterations": 1})"));
+  test::CliResult r = runVktg({"optimize", file.string(), "--out", (dir / "run").string()});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  // run.json as a pilot would have left it, but with a count no pilot gives.
+  std::string info = test::readFileBytes(dir / "run" / "run.json");
+  const size_t end = info.rfind('}');
+  ASSERT_NE(end, std::string::npos) << info;
+  info.insert(end, R"(, "term_pilot": {"spp_edge": -0.5, "spp_boundary": 1, "spp_boundary_camera": 1})");
+  test::writeFileBytes(dir / "run" / "run.json", info);
+  const std::string log = test::readFileBytes(dir / "run" / "log.csv");
+  r = runVktg({"optimize", "--resume", (dir / "run").string(), "--iterations", "2"});
+  EXPECT_TRUE(r.exited && r.exitCode != 0) << r.describe();
+  EXPECT_NE(r.err.find("run.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("term_pilot.spp_edge"), std::string::npos) << r.err;
+  EXPECT_EQ(test::readFileBytes(dir / "run" / "log.csv"), log);
+}
+
 }  // namespace
 }  // namespace vktg
