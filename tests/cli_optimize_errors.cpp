@@ -99,12 +99,19 @@ TEST(OptimizeTooLarge, FailsBeforeTheRunDirectoryWithWhatItNeeds) {
   EXPECT_FALSE(fs::exists(dir / "run")) << "the run directory was created";
 }
 
-TEST(OptimizeBadRunDirectory, UnwritableOrForeignDirectoriesAreRefused) {
-  TempDir dir;
+// A valid one-iteration experiment in `dir` (its target image beside it): the run directory is
+// what these tests get wrong.
+fs::path oneIterationExperiment(const fs::path& dir) {
   writeExr(dir / "right.exr", image(8, 8, 1, 0.1f));
   const fs::path file = dir / "experiment.json";
   test::writeFileBytes(file, experiment(R"("image": "right.exr")", R"({"name": "grey", "initial": 0.3})",
                                         R"(, "stop": {"iterations": 1})"));
+  return file;
+}
+
+TEST(OptimizeBadRunDirectory, UnwritableOrForeignDirectoriesAreRefused) {
+  TempDir dir;
+  const fs::path file = oneIterationExperiment(dir.path());
   // Below a regular file no directory can be made (a means that works as root too).
   test::writeFileBytes(dir / "plain", "not a directory");
   test::CliResult r = runVktg({"optimize", file.string(), "--out", (dir / "plain" / "run").string()});
@@ -125,10 +132,7 @@ TEST(OptimizeBadRunDirectory, UnwritableOrForeignDirectoriesAreRefused) {
 
 TEST(OptimizeBadRunDirectory, AResumedRunRefusesANegativeTermPilotCount) {
   TempDir dir;
-  writeExr(dir / "right.exr", image(8, 8, 1, 0.1f));
-  const fs::path file = dir / "experiment.json";
-  test::writeFileBytes(file, experiment(R"("image": "right.exr")", R"({"name": "grey", "initial": 0.3})",
-                                        R"(, "stop": {"iterations": 1})"));
+  const fs::path file = oneIterationExperiment(dir.path());
   test::CliResult r = runVktg({"optimize", file.string(), "--out", (dir / "run").string()});
   ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
   // run.json as a pilot would have left it, but with a count no pilot gives.
