@@ -148,6 +148,7 @@ void standardNee(uint path, NeeVertex v, uint depth, vec3 u) {
   float cosX = abs(dot(v.normal, wo));
   float len = v.len, comp = 0.0;
   addLength(len, comp, dist);
+  if (!gateReaches(len)) return;
   // Paths an ellipsoidal connection can also make are weighted against it (and emitter hits do
   // not count for them); shorter ones are weighted against BSDF sampling of the emitter.
   bool againstEllipsoid = kSpecNeeModeValue == kNeeMis && depth >= v.firstEllipsoidVertex + 1u;
