@@ -38,6 +38,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -431,7 +432,17 @@ TEST_P(GradGate, WeightDerivativesMatchFiniteDifferences) {
     compareDerivative(t, o[1], f, lengthOnly, kOpsUlps, 3 * i, what + " dW/dL L'");
     compareDerivative(t, o[3], f, centreOnly, kOpsUlps, 3 * i + 1, what + " dW/dcentre");
     compareDerivative(t, o[4], f, both, kOpsUlps, 3 * i + 2, what + " W'(L)(L' - c')");
+    // Standard NEE leaves connections the gate does not reach untraced: none may have a weight
+    // or a derivative.
+    if (o[6] == 0.0f)
+      for (size_t k : {0, 1, 2, 3, 4, 5}) EXPECT_EQ(o[k], 0.0f) << what << ": the gate does not reach it, output " << k;
   }
+  // It is reached somewhere, and a NaN length is (the accumulators count it as non-finite).
+  uint32_t reached = 0;
+  for (uint32_t i = 0; i < kCount; ++i) reached += out[8 * i + 6] == 1.0f;
+  EXPECT_GT(reached, 0u);
+  in.assign(1, In{std::numeric_limits<float>::quiet_NaN(), 0.0f, 0u, 0.0f});
+  EXPECT_EQ(runKernel<float>("dual_gate", in, 8, 1, &scene)[6], 1.0f) << "a NaN length";
   // Box and bins gates are flat: every comparison checks an exact zero away from the edges;
   // stencils on an edge (1e-4 of the support per edge) or the gaussian cut-off are excluded.
   expectFewExclusions(t, 0.01);

@@ -5,7 +5,7 @@
 // In per invocation (4 words): L, dL/dθ, layer (uint), centre rate (the gate's shift per unit θ).
 // Out per invocation (8 words): 0-1 gateWeightDual(L, layer) value and derivative, 2 gateWeight(L,
 // layer), 3 gateCentreDerivative(L, layer), 4 derivative of gateWeightDual(L, layer, rate),
-// 5 its value, 6-7 zero.
+// 5 its value, 6 gateReaches(L) (1 or 0), 7 zero.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "test_io.glsl"
@@ -30,6 +30,6 @@ void main() {
   outF(ob + 3u, gateCentreDerivative(len.v, layer));
   outF(ob + 4u, shifted.d);
   outF(ob + 5u, shifted.v);
-  outF(ob + 6u, 0.0);
+  outF(ob + 6u, gateReaches(len.v) ? 1.0 : 0.0);
   outF(ob + 7u, 0.0);
 }
