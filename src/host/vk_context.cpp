@@ -44,12 +44,15 @@ bool hasExtension(VkPhysicalDevice device, const char* name) {
   return std::any_of(props.begin(), props.end(), [&](const auto& p) { return std::strcmp(p.extensionName, name) == 0; });
 }
 
-bool instanceHasLayer(const char* name) {
+// The spec version of instance layer `name`, 0 when it is not installed.
+uint32_t instanceLayerVersion(const char* name) {
   uint32_t count = 0;
   vkEnumerateInstanceLayerProperties(&count, nullptr);
   std::vector<VkLayerProperties> layers(count);
   vkEnumerateInstanceLayerProperties(&count, layers.data());
-  return std::any_of(layers.begin(), layers.end(), [&](const auto& l) { return std::strcmp(l.layerName, name) == 0; });
+  for (const VkLayerProperties& l : layers)
+    if (std::strcmp(l.layerName, name) == 0) return std::max<uint32_t>(l.specVersion, 1);
+  return 0;
 }
 
 bool instanceHasExtension(const char* name) {
@@ -199,16 +202,21 @@ std::vector<DeviceReport> VulkanContext::listDevices() {
   return reports;
 }
 
+bool labelsAreSafe(uint32_t layerVersion) { return layerVersion == 0 || layerVersion >= VK_MAKE_API_VERSION(0, 1, 3, 243); }
+
 VulkanContext::VulkanContext(const ContextOptions& options) {
-  if (options.validation && !instanceHasLayer(kValidationLayer))
+  const uint32_t validationVersion = options.validation ? instanceLayerVersion(kValidationLayer) : 0;
+  if (options.validation && validationVersion == 0)
     throw Error("validation requested but VK_LAYER_KHRONOS_validation is not installed (package vulkan-validationlayers)");
   bool debugUtils = instanceHasExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
   m_instance = createInstance(options.validation, debugUtils);
   try {
     if (debugUtils) {
       m_setName = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(vkGetInstanceProcAddr(m_instance, "vkSetDebugUtilsObjectNameEXT"));
-      m_beginLabel = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(vkGetInstanceProcAddr(m_instance, "vkCmdBeginDebugUtilsLabelEXT"));
-      m_endLabel = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(m_instance, "vkCmdEndDebugUtilsLabelEXT"));
+      if (labelsAreSafe(validationVersion)) {
+        m_beginLabel = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(vkGetInstanceProcAddr(m_instance, "vkCmdBeginDebugUtilsLabelEXT"));
+        m_endLabel = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(vkGetInstanceProcAddr(m_instance, "vkCmdEndDebugUtilsLabelEXT"));
+      }
     }
     if (options.validation && debugUtils) {
       auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(

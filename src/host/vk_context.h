@@ -57,6 +57,14 @@ class DeviceFault : public Error {
 // How long one submission may run before it counts as stuck (batches are sized to take seconds).
 inline constexpr uint64_t kFenceTimeoutNs = 600ull * 1000 * 1000 * 1000;
 
+// Whether command-buffer labels (for capture tools) are recorded with the validation layer at
+// `layerVersion` (0: no validation). Layers before 1.3.243 erase a freed command buffer's labels on
+// their queue thread without the lock that recording a label takes (Vulkan-ValidationLayers issue
+// 5172, fixed in February 2023; Debian 12 ships 1.3.239): the two threads then corrupt the heap,
+// which valgrind showed as a write into a freed block in vkCmdBeginDebugUtilsLabelEXT during a
+// whole optimisation, the runs that lost a test to heap corruption on lavapipe.
+bool labelsAreSafe(uint32_t layerVersion);
+
 // Whether a VulkanContext went with validation messages nobody had taken: those the layer reports
 // while the device is destroyed (objects never destroyed) come after every check a command makes,
 // so the destructor prints them ("vktg: validation at exit: ...") and main() fails the run with this.
