@@ -132,7 +132,8 @@ void PassPipelines::prepare(const std::vector<std::pair<std::string, SpecValues>
   // (Mesa 22.3) makes each pipeline's shader through its queue's gallium context, which is not made
   // for several threads at once, and valgrind's helgrind sees the creating threads read and write
   // lavapipe's globals unsynchronised (a CI run's vktg died of a segmentation fault in its start-up;
-  // a heap corruption seen beside it recurred without these threads: docs/robustness.md, "Threads").
+  // the heap corruptions seen beside it came from the validation layer's labels instead:
+  // docs/robustness.md, "Threads").
   // VKTG_PIPELINE_CREATION=parallel|serial overrides.
   std::vector<VkPipeline> created(n, VK_NULL_HANDLE);
   std::vector<VkResult> results(n, VK_SUCCESS);

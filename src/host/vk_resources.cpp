@@ -70,8 +70,7 @@ Buffer::Buffer(const VulkanContext& context, VkDeviceSize size, MemoryKind kind,
     VKTG_VK_CHECK(vkMapMemory(m_device, m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
     m_coherent = context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     // A readback buffer is the staging buffer itself: read directly even where no cached type exists.
-    m_readDirectly = kind == MemoryKind::Readback ||
-                     context.hasMemoryType(1u << typeIndex, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    m_readDirectly = kind == MemoryKind::Readback || cached;
     if (guard) guardMemory(m_memory, static_cast<char*>(m_mapped) + size, req.size + guard - size, name);
   }
 }
