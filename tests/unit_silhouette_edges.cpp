@@ -2,6 +2,7 @@
 // silhouettes, their face directions, and the selection CDF by length.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -107,6 +108,69 @@ TEST(SilhouetteEdges, MovingEdgesGetHalfTheMass) {
   // Everything moving, or nothing: selection by length.
   expectValidCdf(silhouetteEdges(prepared, std::vector<bool>(moving.size(), true)));
   expectValidCdf(silhouetteEdges(prepared, std::vector<bool>(moving.size(), false)));
+}
+
+// The order the edges come in is part of every edge sample (the CDF's index), so it must not depend
+// on how the list is built: by the bit patterns of the ends' positions, lower end first.
+TEST(SilhouetteEdges, EdgesComeOnceEachInOrderOfTheirEndsPositions) {
+  Scene scene = sceneWith(R"({"name": "c", "type": "cube", "material": "m"})");
+  Shape hill;
+  hill.name = "hill";
+  const int n = 6;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) hill.positions.push_back({i - 2.5f, 0.3f * std::sin(1.7f * i * j), j - 2.5f});
+  // Triangles listed in a scrambled order: the list's order must not follow it.
+  for (int q = 0; q < (n - 1) * (n - 1); ++q) {
+    int cell = (q * 7) % ((n - 1) * (n - 1)), i = cell % (n - 1), j = cell / (n - 1);
+    uint32_t a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+    hill.triangles.push_back({a, c, b});
+    hill.triangles.push_back({b, c, d});
+  }
+  scene.shapes.push_back(hill);
+  std::vector<gpu::GpuEdge> edges = silhouetteEdges(prepareScene(scene));
+  ASSERT_GT(edges.size(), 12u + 4u * (n - 1));
+  auto key = [](glm::vec4 p) {
+    std::array<uint32_t, 3> k;
+    std::memcpy(k.data(), &p, sizeof k);
+    return k;
+  };
+  for (size_t e = 0; e < edges.size(); ++e) {
+    EXPECT_LT(key(edges[e].p0), key(edges[e].p1)) << "edge " << e << ": the lower end first";
+    if (e > 0)
+      EXPECT_LT(std::make_pair(key(edges[e - 1].p0), key(edges[e - 1].p1)), std::make_pair(key(edges[e].p0), key(edges[e].p1)))
+          << "edges " << e - 1 << " and " << e << " out of order, or one edge twice";
+  }
+  expectValidCdf(edges);
+}
+
+TEST(SilhouetteEdges, AnEdgeOfThreeFacesIsTheCreaseOfTheFirstTwoListed) {
+  // Three fins on the edge from (0,0,0) to (0,0,1), no two of them coplanar.
+  Scene scene = sceneWith(R"({"name": "far", "type": "rectangle", "material": "m", "transform": {"translate": [9, 9, 9]}})");
+  Shape fins;
+  fins.name = "fins";
+  fins.positions = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0.5f}, {0, 1, 0.5f}, {-0.6f, -0.8f, 0.5f}};
+  fins.triangles = {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}};
+  scene.shapes.push_back(fins);
+  PreparedScene prepared = prepareScene(scene);
+  // The fins' tips in the order the prepared scene lists their triangles (the BVH's).
+  std::vector<glm::vec3> tips;
+  for (const glm::uvec4& t : prepared.triangleVerts)
+    for (uint32_t v : {t.x, t.y, t.z})
+      if (glm::vec3(prepared.vertices[v]).z == 0.5f) tips.push_back(glm::vec3(prepared.vertices[v]));
+  ASSERT_EQ(tips.size(), 3u);
+  EdgeList list = edgeList(prepared, {}, {});
+  int found = 0;
+  for (size_t e = 0; e < list.edges.size(); ++e) {
+    const gpu::GpuEdge& edge = list.edges[e];
+    if (!(glm::vec3(edge.p0) == glm::vec3(0, 0, 0) && glm::vec3(edge.p1) == glm::vec3(0, 0, 1))) continue;
+    ++found;
+    const glm::vec3 first = tips[0] - glm::vec3(0, 0, 0.5f), second = tips[1] - glm::vec3(0, 0, 0.5f);
+    EXPECT_NEAR(glm::distance(glm::vec3(edge.inward0), glm::normalize(first)), 0.0, 1e-6);
+    EXPECT_NEAR(glm::distance(glm::vec3(edge.inward1), glm::normalize(second)), 0.0, 1e-6);
+    EXPECT_EQ(glm::vec3(prepared.vertices[list.faces[e].x]), tips[0]);
+    EXPECT_EQ(glm::vec3(prepared.vertices[list.faces[e].y]), tips[1]);
+  }
+  EXPECT_EQ(found, 1);
 }
 
 }  // namespace

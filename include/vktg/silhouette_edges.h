@@ -12,7 +12,9 @@ namespace vktg {
 // seam still share the edge), so a crease between two faces is found once. Kept: boundary edges
 // (one face) and creases whose faces are not coplanar; an edge of three or more faces (non-manifold)
 // is kept as the crease of its first two. Dropped: flat creases, which no line can graze without
-// entering a face on both sides. Degenerate (zero-length) edges are dropped. The CDF (inward0.w)
+// entering a face on both sides. Degenerate (zero-length) edges are dropped. Edges come in order of
+// the bit patterns of their ends' positions, lower end first (p0), an edge's faces in the order
+// the triangles are listed: an edge's index is part of every edge sample. The CDF (inward0.w)
 // selects edges, pmf in inward1.w: proportionally to length, or, when `movingVertex` (per vertex
 // of `prepared`) marks some edges as moving and others not, half the mass on the moving edges by
 // length and half on all edges by length. A static edge still carries the term where an end of

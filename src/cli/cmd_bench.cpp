@@ -40,8 +40,8 @@ const CommandSpec& benchSpec() {
         "table.md (and plot.png, except nee and trace) into the output directory. `bench trace [SCENE]`: rays per\n"
         "second of the BVH traversal, closest and any hit, primary and incoherent rays, on SCENE or on the default\n"
         "room and rooms with heightfields of --sizes, beside Embree on the host's cores when built with it.\n"
-        "`bench bvh`: the median time to build the BVH of 10^4, 10^5 and 10^6 random triangles (CPU only; prints a\n"
-        "table).";
+        "`bench bvh`: the median time to build the BVH of 10^4, 10^5 and 10^6 random triangles, and the silhouette-edge\n"
+        "list of heightfields of as many vertices (CPU only; prints tables).";
     s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
@@ -91,6 +91,10 @@ int runBench(const std::vector<std::string>& argv) {
     std::printf("| triangles | BVH build (median of %u) | nodes |\n| ---: | ---: | ---: |\n", runs);
     for (const BvhBenchRow& row : benchBvhBuild(runs))
       std::printf("| %u | %.3f s | %zu |\n", row.triangles, row.medianSeconds, row.nodes);
+    std::printf("\n| heightfield vertices | triangles | silhouette-edge list (median of %u) | edges |\n| ---: | ---: | ---: | ---: |\n",
+                runs);
+    for (const EdgeListBenchRow& row : benchEdgeList(runs))
+      std::printf("| %u | %zu | %.3f s | %zu |\n", row.vertices, row.triangles, row.medianSeconds, row.edges);
     return 0;
   }
   std::string command = "vktg bench";

@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <random>
 
+#include "host/bench_common.h"
+#include "scene/primitives.h"
 #include "vktg/bvh.h"
+#include "vktg/silhouette_edges.h"
 
 namespace vktg {
 
@@ -31,6 +35,38 @@ std::vector<BvhBenchRow> benchBvhBuild(uint32_t runs) {
     }
     std::nth_element(seconds.begin(), seconds.begin() + seconds.size() / 2, seconds.end());
     row.medianSeconds = seconds[seconds.size() / 2];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::vector<EdgeListBenchRow> benchEdgeList(uint32_t runs) {
+  std::vector<EdgeListBenchRow> rows;
+  for (uint32_t n : {100u, 316u, 1000u}) {
+    std::vector<float> heights(size_t(n) * n);
+    for (uint32_t j = 0; j < n; ++j)
+      for (uint32_t i = 0; i < n; ++i) heights[size_t(j) * n + i] = 0.1f * std::sin(0.37f * float(i)) * std::cos(0.23f * float(j));
+    TriangleMesh mesh = makeHeightfield(n, n, 2.0f, 2.0f, heights);
+    Scene scene;
+    scene.materials.push_back({"ground", MaterialType::Diffuse, 0.5f});
+    scene.pointLights.push_back({"light", glm::vec3(0.0f, 2.0f, 0.0f), 1.0f});
+    Shape shape;
+    shape.name = "terrain";
+    shape.positions = std::move(mesh.positions);
+    shape.triangles = std::move(mesh.triangles);
+    scene.shapes.push_back(std::move(shape));
+    const PreparedScene prepared = prepareScene(scene);
+    const std::vector<bool> displaced(prepared.vertices.size(), true);
+    EdgeListBenchRow row;
+    row.vertices = n * n;
+    row.triangles = prepared.triangleVerts.size();
+    std::vector<double> seconds;
+    for (uint32_t r = 0; r < std::max(runs, 1u); ++r) {
+      auto start = std::chrono::steady_clock::now();
+      row.edges = edgeList(prepared, displaced, displaced).edges.size();
+      seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    row.medianSeconds = median(seconds);
     rows.push_back(row);
   }
   return rows;

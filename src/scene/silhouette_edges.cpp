@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
-#include <map>
 
 #include <glm/glm.hpp>
 
@@ -19,15 +18,121 @@ PositionKey keyOf(const glm::vec3& p) {
   return k;
 }
 
+// Per vertex, the rank of its position among the scene's distinct positions in PositionKey order:
+// vertices at the same position (a seam) share it, and comparing ranks compares the positions.
+std::vector<uint32_t> positionRanks(const PreparedScene& prepared) {
+  const size_t count = prepared.vertices.size();
+  std::vector<PositionKey> keys(count);
+  for (size_t v = 0; v < count; ++v) keys[v] = keyOf(glm::vec3(prepared.vertices[v]));
+  std::vector<uint32_t> order(count);
+  for (uint32_t v = 0; v < count; ++v) order[v] = v;
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+  std::vector<uint32_t> rank(count);
+  uint32_t distinct = 0;
+  for (size_t i = 0; i < count; ++i) {
+    if (i > 0 && keys[order[i]] != keys[order[i - 1]]) ++distinct;
+    rank[order[i]] = distinct;
+  }
+  return rank;
+}
+
+// One face's side of an edge: the rank of the edge's higher end and where the side was met, the
+// triangle's index times 3 plus the edge's place in it.
+struct EdgeSide {
+  uint32_t upper;
+  uint64_t visit;
+};
+
+// What an edge's first two faces say about it (further faces only count).
 struct EdgeFaces {
+  uint32_t count = 0;
   uint32_t vertex0 = 0, vertex1 = 0;  // global vertex indices of the ends (first face seen)
-  std::vector<glm::vec3> inward;      // per face: unit in-face direction perpendicular to the edge
-  std::vector<glm::vec3> normal;      // per face: unit normal
-  std::vector<uint32_t> opposite;     // per face: the vertex not on the edge
+  glm::vec3 inward[2];                // per face: unit in-face direction perpendicular to the edge
+  glm::vec3 normal[2];                // per face: unit normal
+  uint32_t opposite[2] = {0, 0};      // per face: the vertex not on the edge
 };
 
 // Faces closer to coplanar than this (1 - cos of the dihedral deviation) form a flat crease.
 constexpr float kFlatCrease = 1e-6f;
+
+// Calls visit(faces) for the edges of every non-degenerate triangle in order of their ends'
+// positions (lower end first, then higher), each edge's faces in the order the triangles list them.
+// A bucket sort by the lower end's rank, then by the higher end's within a bucket (a vertex's few
+// edges): at 2M triangles a map with a node and vectors per edge took seconds.
+template <class Visit>
+void forEachEdge(const PreparedScene& prepared, Visit visit) {
+  const std::vector<uint32_t> rank = positionRanks(prepared);
+  struct Corners {
+    uint32_t ids[3];
+    glm::vec3 p[3];
+    glm::vec3 n;
+  };
+  auto corners = [&](size_t triangle, Corners& c) {
+    const glm::uvec4& tri = prepared.triangleVerts[triangle];
+    c.ids[0] = tri.x, c.ids[1] = tri.y, c.ids[2] = tri.z;
+    for (int i = 0; i < 3; ++i) c.p[i] = glm::vec3(prepared.vertices[c.ids[i]]);
+    c.n = glm::cross(c.p[1] - c.p[0], c.p[2] - c.p[0]);
+    if (!(glm::length(c.n) > 0.0f)) return false;  // degenerate triangles bound nothing
+    c.n = glm::normalize(c.n);
+    return true;
+  };
+  // Every side's bucket (its lower end's rank) and EdgeSide, in the order the triangles list them:
+  // walked twice, to count the buckets and then to fill them, rather than held in a third array.
+  Corners c;
+  auto forEachSide = [&](auto&& use) {
+    for (size_t t = 0; t < prepared.triangleVerts.size(); ++t) {
+      if (!corners(t, c)) continue;
+      for (int i = 0; i < 3; ++i) {
+        int j = (i + 1) % 3;
+        if (!(glm::length(c.p[j] - c.p[i]) > 0.0f)) continue;
+        uint32_t a = rank[c.ids[i]], b = rank[c.ids[j]];
+        use(std::min(a, b), EdgeSide{std::max(a, b), 3 * uint64_t(t) + uint64_t(i)});
+      }
+    }
+  };
+  std::vector<size_t> start(rank.size() + 1, 0);
+  forEachSide([&](uint32_t bucket, const EdgeSide&) { ++start[bucket + 1]; });
+  for (size_t r = 0; r < rank.size(); ++r) start[r + 1] += start[r];
+  std::vector<EdgeSide> sides(start.back());
+  {
+    std::vector<size_t> next(start.begin(), start.end() - 1);
+    forEachSide([&](uint32_t bucket, const EdgeSide& side) { sides[next[bucket]++] = side; });
+  }
+  for (size_t r = 0; r < rank.size(); ++r) {
+    // Stable: sides of one edge stay in the order they were listed. A vertex has a few edges, whose
+    // insertion sort needs no buffer; a fan's centre (a disc's) may have thousands.
+    auto first = sides.begin() + start[r], last = sides.begin() + start[r + 1];
+    if (last - first > 32) {
+      std::stable_sort(first, last, [](const EdgeSide& x, const EdgeSide& y) { return x.upper < y.upper; });
+    } else {
+      for (auto i = first; i != last; ++i)
+        for (auto j = i; j != first && (j - 1)->upper > j->upper; --j) std::iter_swap(j - 1, j);
+    }
+    for (size_t s = start[r]; s < start[r + 1];) {
+      EdgeFaces faces;
+      size_t end = s;
+      while (end < start[r + 1] && sides[end].upper == sides[s].upper) ++end;
+      faces.count = uint32_t(end - s);
+      for (uint32_t face = 0; face < 2 && face < faces.count; ++face) {
+        const EdgeSide& side = sides[s + face];
+        corners(side.visit / 3, c);
+        int i = int(side.visit % 3), j = (i + 1) % 3, k = (i + 2) % 3;
+        if (face == 0) {
+          bool swapped = keyOf(c.p[j]) < keyOf(c.p[i]);
+          faces.vertex0 = swapped ? c.ids[j] : c.ids[i];
+          faces.vertex1 = swapped ? c.ids[i] : c.ids[j];
+        }
+        glm::vec3 inward = glm::cross(c.n, c.p[j] - c.p[i]);
+        if (glm::dot(inward, c.p[k] - c.p[i]) < 0.0f) inward = -inward;
+        faces.inward[face] = glm::normalize(inward);
+        faces.normal[face] = c.n;
+        faces.opposite[face] = c.ids[k];
+      }
+      visit(faces);
+      s = end;
+    }
+  }
+}
 
 }  // namespace
 
@@ -37,32 +142,6 @@ std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const s
 
 EdgeList edgeList(const PreparedScene& prepared, const std::vector<bool>& movingVertex,
                   const std::vector<bool>& deformingVertex) {
-  std::map<std::pair<PositionKey, PositionKey>, EdgeFaces> edges;
-  for (const glm::uvec4& tri : prepared.triangleVerts) {
-    uint32_t ids[3] = {tri.x, tri.y, tri.z};
-    glm::vec3 p[3];
-    for (int i = 0; i < 3; ++i) p[i] = glm::vec3(prepared.vertices[ids[i]]);
-    glm::vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
-    if (!(glm::length(n) > 0.0f)) continue;  // degenerate triangles bound nothing
-    n = glm::normalize(n);
-    for (int i = 0; i < 3; ++i) {
-      int j = (i + 1) % 3, k = (i + 2) % 3;
-      glm::vec3 e = p[j] - p[i];
-      if (!(glm::length(e) > 0.0f)) continue;
-      PositionKey a = keyOf(p[i]), b = keyOf(p[j]);
-      bool swapped = b < a;
-      EdgeFaces& faces = edges[swapped ? std::make_pair(b, a) : std::make_pair(a, b)];
-      if (faces.inward.empty()) {
-        faces.vertex0 = swapped ? ids[j] : ids[i];
-        faces.vertex1 = swapped ? ids[i] : ids[j];
-      }
-      glm::vec3 inward = glm::cross(n, e);
-      if (glm::dot(inward, p[k] - p[i]) < 0.0f) inward = -inward;
-      faces.inward.push_back(glm::normalize(inward));
-      faces.normal.push_back(n);
-      faces.opposite.push_back(ids[k]);
-    }
-  }
   EdgeList list;
   std::vector<gpu::GpuEdge>& out = list.edges;
   std::vector<double> lengths;
@@ -70,13 +149,13 @@ EdgeList edgeList(const PreparedScene& prepared, const std::vector<bool>& moving
   double total = 0, totalMoving = 0;
   auto moves = [&](uint32_t v) { return !movingVertex.empty() && movingVertex.at(v); };
   auto deforms = [&](uint32_t v) { return !deformingVertex.empty() && deformingVertex.at(v); };
-  for (const auto& [key, faces] : edges) {
-    bool flat = faces.inward.size() >= 2 && std::abs(glm::dot(faces.normal[0], faces.normal[1])) > 1.0f - kFlatCrease &&
+  forEachEdge(prepared, [&](const EdgeFaces& faces) {
+    bool flat = faces.count >= 2 && std::abs(glm::dot(faces.normal[0], faces.normal[1])) > 1.0f - kFlatCrease &&
                 glm::dot(faces.inward[0], faces.inward[1]) < 0.0f;
     // A flat crease: the two faces continue each other, unless motion folds them.
     if (flat && !(deforms(faces.vertex0) || deforms(faces.vertex1) || deforms(faces.opposite[0]) ||
                   deforms(faces.opposite[1])))
-      continue;
+      return;
     gpu::GpuEdge edge{};
     glm::vec3 p0 = glm::vec3(prepared.vertices[faces.vertex0]), p1 = glm::vec3(prepared.vertices[faces.vertex1]);
     uint32_t v0 = faces.vertex0, v1 = faces.vertex1;
@@ -85,14 +164,14 @@ EdgeList edgeList(const PreparedScene& prepared, const std::vector<bool>& moving
     std::memcpy(&edge.p0.w, &v0, sizeof v0);
     std::memcpy(&edge.p1.w, &v1, sizeof v1);
     edge.inward0 = glm::vec4(faces.inward[0], 0.0f);
-    edge.inward1 = glm::vec4(faces.inward.size() >= 2 ? faces.inward[1] : glm::vec3(0.0f), 0.0f);
+    edge.inward1 = glm::vec4(faces.count >= 2 ? faces.inward[1] : glm::vec3(0.0f), 0.0f);
     out.push_back(edge);
-    list.faces.emplace_back(faces.opposite[0], faces.opposite.size() >= 2 ? faces.opposite[1] : 0xffffffffu, 0u, 0u);
+    list.faces.emplace_back(faces.opposite[0], faces.count >= 2 ? faces.opposite[1] : 0xffffffffu, 0u, 0u);
     lengths.push_back(glm::length(p1 - p0));
     moving.push_back(moves(v0) || moves(v1));
     total += lengths.back();
     if (moving.back()) totalMoving += lengths.back();
-  }
+  });
   // Mixing only when it changes something: some edges move and some do not.
   const double movingShare = totalMoving > 0 && totalMoving < total ? kMovingEdgeShare : 0.0;
   double cdf = 0;
