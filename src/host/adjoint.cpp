@@ -56,17 +56,18 @@ void GradientAccumulator::readBack() {
 }
 
 double GradientAccumulator::largestMagnitude() const {
-  double largest = 0;
-  for (int64_t v : m_host) largest = std::max(largest, std::abs(double(v)));
-  return largest;
+  // In integers: one pass at memory speed over 3 values per vertex.
+  uint64_t largest = 0;
+  for (int64_t v : m_host) largest = std::max(largest, v < 0 ? 0 - uint64_t(v) : uint64_t(v));
+  return double(largest);
 }
 
-SceneGradient GradientAccumulator::read(const Scene& scene, double scale) const {
-  auto at = [&](uint32_t slot) { return double(m_host.at(slot)) / scale; };
-  SceneGradient g;
+const SceneGradient& GradientAccumulator::read(const Scene& scene, double scale) {
+  SceneGradient& g = m_read;
   g.resize(scene);
-  if (g.vertices.size() * 3 + m_layout.vertices != m_layout.total)
+  if (g.vertices.size() * 3 + m_layout.vertices != m_layout.total || m_host.size() < m_layout.total)
     throw Error("internal: the gradient layout does not fit the scene");
+  auto at = [&](uint32_t slot) { return double(m_host[slot]) / scale; };
   g.gateCenter = at(0);
   for (size_t m = 0; m < g.materials.size(); ++m) {
     uint32_t s = m_layout.materials + 3 * uint32_t(m);
@@ -78,10 +79,9 @@ SceneGradient GradientAccumulator::read(const Scene& scene, double scale) const 
     g.intensity[l] = at(s);
     g.lightPosition[l] = glm::dvec3(at(s + 1), at(s + 2), at(s + 3));
   }
-  for (size_t v = 0; v < g.vertices.size(); ++v) {
-    uint32_t s = m_layout.vertices + 3 * uint32_t(v);
-    g.vertices[v] = glm::dvec3(at(s), at(s + 1), at(s + 2));
-  }
+  const int64_t* vertex = m_host.data() + m_layout.vertices;
+  for (size_t v = 0; v < g.vertices.size(); ++v, vertex += 3)
+    g.vertices[v] = glm::dvec3(double(vertex[0]) / scale, double(vertex[1]) / scale, double(vertex[2]) / scale);
   return g;
 }
 

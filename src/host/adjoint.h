@@ -35,8 +35,9 @@ class GradientAccumulator {
   void recordCopyBack(VkCommandBuffer cmd) const;
   void readBack();
   void zero();
-  // The accumulated gradient, divided by `scale`, with respect to `scene`'s quantities.
-  SceneGradient read(const Scene& scene, double scale) const;
+  // The accumulated gradient, divided by `scale`, with respect to `scene`'s quantities: valid until
+  // the next read (kept, so that at 10^6 vertices a gradient does not allocate 24 MB anew).
+  const SceneGradient& read(const Scene& scene, double scale);
   // The largest accumulator magnitude, in units of the accumulator (to choose the next scale).
   double largestMagnitude() const;
   Buffer& buffer() { return m_buffer; }
@@ -50,6 +51,7 @@ class GradientAccumulator {
   // since at 10^6 parameters (24 MB) an allocation per gradient costs about what a render does.
   Buffer m_readback;
   std::vector<int64_t> m_host;
+  SceneGradient m_read;
 };
 
 }  // namespace vktg

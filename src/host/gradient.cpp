@@ -442,9 +442,8 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
       scale = next;
       continue;
     }
-    result.scene = state.accumulator->read(scene.scene(), scale);
     state.scale = largest > 0 ? next : scale;
-    result.theta = model->chainRule(std::vector<double>(scene.theta().begin(), scene.theta().end()), result.scene);
+    result.theta = model->chainRule(scene.theta(), state.accumulator->read(scene.scene(), scale));
     return result;
   }
   throw Error("gradient: the accumulators overflowed at every scale tried (a non-finite or huge contribution?)");

@@ -131,8 +131,6 @@ struct AdjointState {
 
 struct LossGradient {
   std::vector<double> theta;  // d loss / d θ for the model's parameters
-  SceneGradient scene;        // d loss / d scene quantities; of a vertex's, only the axes some
-                              // parameter moves vertices along (vertexMotionAxes; the rest is 0)
   GradientPlan plan;
   RenderStats stats;
   uint32_t attempts = 0;      // renders of the whole gradient (more than one when the scale was refined)
