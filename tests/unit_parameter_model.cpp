@@ -4,11 +4,13 @@
 // differences of a linear functional of the scene.
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "vktg/error.h"
 #include "vktg/parameter_model.h"
 #include "vktg/scene.h"
 
@@ -206,6 +208,33 @@ TEST(ParameterModel, ChainRuleIsTheDerivativeAtTheta) {
     const double fd = (functional(model.sceneAt(plus), g) - functional(model.sceneAt(minus), g)) / (2 * eps);
     EXPECT_NEAR(gradient[k], fd, 1e-3 * (1.0 + std::abs(fd))) << model.parameter(k).name;
   }
+}
+
+// The loss gradient's form, vertices in fixed point as its accumulators hold them: the same numbers
+// bit for bit as converting them to doubles first and applying the chain rule to those.
+TEST(ParameterModel, ChainRuleOfFixedPointVerticesEqualsTheirConversion) {
+  const Scene scene = modelScene();
+  ParameterModel model(scene, allParameters(scene));
+  std::mt19937_64 rng(5);
+  const double scale = std::ldexp(1.0, 40);
+  SceneGradient g;
+  g.resize(scene);
+  std::vector<int64_t> fixed(3 * g.vertices.size());
+  for (int64_t& f : fixed) f = int64_t(rng() >> 20) - (int64_t(1) << 43);
+  fixed[3] = fixed[4] = fixed[5] = 0;  // a vertex no sample touched
+  for (size_t v = 0; v < g.vertices.size(); ++v)
+    g.vertices[v] = glm::dvec3(double(fixed[3 * v]) / scale, double(fixed[3 * v + 1]) / scale, double(fixed[3 * v + 2]) / scale);
+  g.materials.assign(g.materials.size(), glm::dvec3(0.25, -0.5, 0.125));
+  g.gateCenter = 0.375;
+  std::vector<double> theta(model.size(), 0.0);
+  theta[findParameter(scene, "spin")] = 0.7;
+  const std::vector<double> converted = model.chainRule(theta, g);
+  SceneGradient scalars = g;
+  scalars.vertices.clear();
+  const std::vector<double> direct = model.chainRule(theta, scalars, fixed, scale);
+  ASSERT_EQ(direct.size(), converted.size());
+  for (size_t k = 0; k < direct.size(); ++k) EXPECT_EQ(direct[k], converted[k]) << model.parameter(k).name;
+  EXPECT_THROW(model.chainRule(theta, scalars, std::span<const int64_t>(fixed).first(fixed.size() - 3), scale), Error);
 }
 
 }  // namespace

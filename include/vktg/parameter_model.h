@@ -79,6 +79,12 @@ class ParameterModel {
 
   // dℓ/dθ at θ from the gradient with respect to scene quantities at θ.
   std::vector<double> chainRule(std::span<const double> theta, const SceneGradient& gradient) const;
+  // The same with the vertices' part in fixed point, as a loss gradient's accumulators hold it:
+  // vertex v's gradient is (fixed[3v], fixed[3v + 1], fixed[3v + 2]) / scale (bit for bit what
+  // converting them to doubles first gives; at 10^6 vertices that conversion was a pass of its own
+  // over 24 MB). gradient.vertices is not read.
+  std::vector<double> chainRule(std::span<const double> theta, const SceneGradient& gradient,
+                                std::span<const int64_t> fixed, double scale) const;
 
  private:
   Scene m_scene;
@@ -95,6 +101,11 @@ class ParameterModel {
   // record (names, vertex lists).
   std::vector<glm::vec4> m_motion;
   std::vector<uint32_t> m_scalarParameters;  // θ indices of parameters that move no vertex, declaration order
+
+  std::vector<double> scalarChainRule(std::span<const double> theta, const SceneGradient& gradient) const;
+  // Adds every vertex's part, vertex v's gradient being vertexGradient(v) (a glm::dvec3).
+  template <class VertexGradient>
+  void addVertexChainRule(std::span<const double> theta, VertexGradient vertexGradient, std::vector<double>& out) const;
 };
 
 }  // namespace vktg

@@ -62,12 +62,15 @@ double GradientAccumulator::largestMagnitude() const {
   return double(largest);
 }
 
-const SceneGradient& GradientAccumulator::read(const Scene& scene, double scale) {
-  SceneGradient& g = m_read;
-  g.resize(scene);
-  if (g.vertices.size() * 3 + m_layout.vertices != m_layout.total || m_host.size() < m_layout.total)
+SceneGradient GradientAccumulator::readScalars(const Scene& scene, double scale) const {
+  SceneGradient g;
+  g.materials.assign(scene.materials.size(), glm::dvec3(0.0));
+  g.emission.assign(scene.shapes.size(), 0.0);
+  g.intensity.assign(scene.pointLights.size(), 0.0);
+  g.lightPosition.assign(scene.pointLights.size(), glm::dvec3(0.0));
+  if (m_host.size() != m_layout.total || m_layout.vertices > m_layout.total)
     throw Error("internal: the gradient layout does not fit the scene");
-  auto at = [&](uint32_t slot) { return double(m_host[slot]) / scale; };
+  auto at = [&](uint32_t slot) { return double(m_host.at(slot)) / scale; };
   g.gateCenter = at(0);
   for (size_t m = 0; m < g.materials.size(); ++m) {
     uint32_t s = m_layout.materials + 3 * uint32_t(m);
@@ -79,10 +82,11 @@ const SceneGradient& GradientAccumulator::read(const Scene& scene, double scale)
     g.intensity[l] = at(s);
     g.lightPosition[l] = glm::dvec3(at(s + 1), at(s + 2), at(s + 3));
   }
-  const int64_t* vertex = m_host.data() + m_layout.vertices;
-  for (size_t v = 0; v < g.vertices.size(); ++v, vertex += 3)
-    g.vertices[v] = glm::dvec3(double(vertex[0]) / scale, double(vertex[1]) / scale, double(vertex[2]) / scale);
   return g;
+}
+
+std::span<const int64_t> GradientAccumulator::vertexAccumulators() const {
+  return std::span<const int64_t>(m_host).subspan(m_layout.vertices);
 }
 
 }  // namespace vktg

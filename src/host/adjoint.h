@@ -6,6 +6,7 @@
 // the order the device adds in, and a run is reproducible bit for bit (what `--resume` needs).
 #pragma once
 #include <cstdint>
+#include <span>
 
 #include "host/vk_resources.h"
 #include "vktg/parameter_model.h"
@@ -35,9 +36,10 @@ class GradientAccumulator {
   void recordCopyBack(VkCommandBuffer cmd) const;
   void readBack();
   void zero();
-  // The accumulated gradient, divided by `scale`, with respect to `scene`'s quantities: valid until
-  // the next read (kept, so that at 10^6 vertices a gradient does not allocate 24 MB anew).
-  const SceneGradient& read(const Scene& scene, double scale);
+  // The accumulated gradient, divided by `scale`, with respect to `scene`'s quantities but its
+  // vertices, whose accumulators ParameterModel::chainRule reads as they are (vertexAccumulators).
+  SceneGradient readScalars(const Scene& scene, double scale) const;
+  std::span<const int64_t> vertexAccumulators() const;
   // The largest accumulator magnitude, in units of the accumulator (to choose the next scale).
   double largestMagnitude() const;
   Buffer& buffer() { return m_buffer; }
@@ -51,7 +53,6 @@ class GradientAccumulator {
   // since at 10^6 parameters (24 MB) an allocation per gradient costs about what a render does.
   Buffer m_readback;
   std::vector<int64_t> m_host;
-  SceneGradient m_read;
 };
 
 }  // namespace vktg

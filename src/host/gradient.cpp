@@ -443,7 +443,8 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
       continue;
     }
     state.scale = largest > 0 ? next : scale;
-    result.theta = model->chainRule(scene.theta(), state.accumulator->read(scene.scene(), scale));
+    result.theta = model->chainRule(scene.theta(), state.accumulator->readScalars(scene.scene(), scale),
+                                    state.accumulator->vertexAccumulators(), scale);
     return result;
   }
   throw Error("gradient: the accumulators overflowed at every scale tried (a non-finite or huge contribution?)");

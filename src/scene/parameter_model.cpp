@@ -150,7 +150,7 @@ VertexOpTables ParameterModel::deviceTables() const {
   return t;
 }
 
-std::vector<double> ParameterModel::chainRule(std::span<const double> theta, const SceneGradient& g) const {
+std::vector<double> ParameterModel::scalarChainRule(std::span<const double> theta, const SceneGradient& g) const {
   if (theta.size() != size()) throw Error("internal: θ has the wrong size");
   std::vector<double> out(size(), 0.0);
   for (uint32_t k : m_scalarParameters) {
@@ -170,20 +170,26 @@ std::vector<double> ParameterModel::chainRule(std::span<const double> theta, con
       case ParameterKind::GateCenter: out[k] = g.gateCenter; break;
     }
   }
-  if (m_opList.empty()) return out;
-  if (g.vertices.size() != m_vertexOps.size()) throw Error("internal: vertex gradient has the wrong size");
+  return out;
+}
+
+template <class VertexGradient>
+void ParameterModel::addVertexChainRule(std::span<const double> theta, VertexGradient vertexGradient,
+                                        std::vector<double>& out) const {
   // The velocity of op i of a vertex: its own motion at the position it acts on, turned by every
   // rotation applied after it.
   std::vector<glm::dvec3> velocity;
   for (size_t s = 0; s + 1 < m_firstVertex.size(); ++s) {
     for (uint32_t v = m_firstVertex[s]; v < m_firstVertex[s + 1]; ++v) {
       const glm::uvec2 ops = m_vertexOps[v];
-      if (ops.y == 0 || g.vertices[v] == glm::dvec3(0.0)) continue;
+      if (ops.y == 0) continue;
+      const glm::dvec3 g = vertexGradient(v);
+      if (g == glm::dvec3(0.0)) continue;
       const glm::vec4 first = m_motion[m_opList[ops.x]];
       if (ops.y == 1 && first.w == 0.0f) {
         // A lone translation or displacement (every height of a heightfield): its velocity is its
         // axis wherever the vertex is, so the position need not be replayed.
-        out[m_opList[ops.x]] += glm::dot(g.vertices[v], glm::dvec3(glm::vec3(first)));
+        out[m_opList[ops.x]] += glm::dot(g, glm::dvec3(glm::vec3(first)));
         continue;
       }
       glm::dvec3 position(m_scene.shapes[s].positions[v - m_firstVertex[s]]);
@@ -196,9 +202,28 @@ std::vector<double> ParameterModel::chainRule(std::span<const double> theta, con
                                                        : glm::dvec3(p.axis);
         for (uint32_t j = 0; j < i; ++j) velocity[j] = turnVector(p, velocity[j], theta[k]);
       }
-      for (uint32_t i = 0; i < ops.y; ++i) out[m_opList[ops.x + i]] += glm::dot(g.vertices[v], velocity[i]);
+      for (uint32_t i = 0; i < ops.y; ++i) out[m_opList[ops.x + i]] += glm::dot(g, velocity[i]);
     }
   }
+}
+
+std::vector<double> ParameterModel::chainRule(std::span<const double> theta, const SceneGradient& g) const {
+  std::vector<double> out = scalarChainRule(theta, g);
+  if (m_opList.empty()) return out;
+  if (g.vertices.size() != m_vertexOps.size()) throw Error("internal: vertex gradient has the wrong size");
+  addVertexChainRule(theta, [&](uint32_t v) { return g.vertices[v]; }, out);
+  return out;
+}
+
+std::vector<double> ParameterModel::chainRule(std::span<const double> theta, const SceneGradient& g,
+                                              std::span<const int64_t> fixed, double scale) const {
+  std::vector<double> out = scalarChainRule(theta, g);
+  if (m_opList.empty()) return out;
+  if (fixed.size() != 3 * m_vertexOps.size()) throw Error("internal: vertex gradient has the wrong size");
+  addVertexChainRule(theta, [&](uint32_t v) {
+    const int64_t* f = fixed.data() + 3 * size_t(v);
+    return glm::dvec3(double(f[0]) / scale, double(f[1]) / scale, double(f[2]) / scale);
+  }, out);
   return out;
 }
 
