@@ -27,19 +27,6 @@ float gateWeight(float len, uint layer) {
   return (len >= lo && len < lo + frame.gate.y) ? 1.0 : 0.0;
 }
 
-// Whether some layer's W_k(L) can be non-zero (gateWeight's tests negated, so that a NaN length
-// still reaches the accumulators, which count it). W_k' vanishes wherever W_k does; the jumps have
-// connections of their own. A connection of a length the gate does not reach adds nothing to the
-// image or to any derivative, and is not traced.
-bool gateReaches(float len) {
-  if (kSpecGateTypeValue == kGateSteady) return true;
-  if (kSpecGateTypeValue == kGateGaussian) return !(abs(len - frame.gate.x) > kGaussianCutoff * frame.gate.y);
-  if (kSpecGateTypeValue == kGateBox || kSpecGateTypeValue == kGateTruncatedGaussian)
-    return !(len < frame.gate.z || len > frame.gate.w);
-  float k = floor((len - frame.gate.x) / frame.gate.y);
-  return !(k < 0.0 || k >= float(frame.gateInfo.y));
-}
-
 // The layers whose weight can be non-zero at L: [first, first + count).
 void gateLayers(float len, out uint first, out uint count) {
   first = 0u;
@@ -48,6 +35,19 @@ void gateLayers(float len, out uint first, out uint count) {
   float k = floor((len - frame.gate.x) / frame.gate.y);
   if (k < 0.0 || k >= float(frame.gateInfo.y)) { count = 0u; return; }
   first = uint(k);
+}
+
+// Whether some layer's W_k(L) can be non-zero (gateWeight's tests negated, so that a NaN length
+// still reaches the accumulators, which count it). W_k' vanishes wherever W_k does; the jumps have
+// connections of their own. A connection of a length the gate does not reach adds nothing to the
+// image or to any derivative, and is not traced.
+bool gateReaches(float len) {
+  if (kSpecGateTypeValue == kGateGaussian) return !(abs(len - frame.gate.x) > kGaussianCutoff * frame.gate.y);
+  if (kSpecGateTypeValue == kGateBox || kSpecGateTypeValue == kGateTruncatedGaussian)
+    return !(len < frame.gate.z || len > frame.gate.w);
+  uint first, count;  // steady: its one layer; bins: the bin L falls in
+  gateLayers(len, first, count);
+  return count > 0u;
 }
 
 // Draws a total path length s for an ellipsoidal connection and returns 1 / p(s), or 0 when the

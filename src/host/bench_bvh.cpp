@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <random>
 
 #include "host/bench_common.h"
-#include "scene/primitives.h"
+#include "host/bench_scenes.h"
 #include "vktg/bvh.h"
 #include "vktg/silhouette_edges.h"
 
@@ -43,20 +42,10 @@ std::vector<BvhBenchRow> benchBvhBuild(uint32_t runs) {
 std::vector<EdgeListBenchRow> benchEdgeList(uint32_t runs) {
   std::vector<EdgeListBenchRow> rows;
   for (uint32_t n : {100u, 316u, 1000u}) {
-    std::vector<float> heights(size_t(n) * n);
-    for (uint32_t j = 0; j < n; ++j)
-      for (uint32_t i = 0; i < n; ++i) heights[size_t(j) * n + i] = 0.1f * std::sin(0.37f * float(i)) * std::cos(0.23f * float(j));
-    TriangleMesh mesh = makeHeightfield(n, n, 2.0f, 2.0f, heights);
-    Scene scene;
-    scene.materials.push_back({"ground", MaterialType::Diffuse, 0.5f});
-    scene.pointLights.push_back({"light", glm::vec3(0.0f, 2.0f, 0.0f), 1.0f});
-    Shape shape;
-    shape.name = "terrain";
-    shape.positions = std::move(mesh.positions);
-    shape.triangles = std::move(mesh.triangles);
-    scene.shapes.push_back(std::move(shape));
-    const PreparedScene prepared = prepareScene(scene);
-    const std::vector<bool> displaced(prepared.vertices.size(), true);
+    const PreparedScene prepared = prepareScene(tessellatedRoom(n, 16));
+    // The heightfield is the last shape: its n^2 vertices end the list.
+    std::vector<bool> displaced(prepared.vertices.size(), false);
+    std::fill(displaced.end() - ptrdiff_t(n) * n, displaced.end(), true);
     EdgeListBenchRow row;
     row.vertices = n * n;
     row.triangles = prepared.triangleVerts.size();

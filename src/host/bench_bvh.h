@@ -23,8 +23,9 @@ struct EdgeListBenchRow {
   double medianSeconds = 0;
 };
 
-// Heightfields of 10^4, 10^5 and 10^6 vertices, every vertex displaced on its own (as a heightfield's
-// parameters do, so flat creases stay in the list), each list made `runs` times.
+// The rooms of tessellatedRoom with heightfields of 10^4, 10^5 and 10^6 vertices, each heightfield
+// vertex displaced on its own (as a heightfield's parameters do, so flat creases stay in the list),
+// each list made `runs` times.
 std::vector<EdgeListBenchRow> benchEdgeList(uint32_t runs);
 
 }  // namespace vktg
