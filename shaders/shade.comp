@@ -4,10 +4,10 @@
 // vktg-variant: shade_adj VKTG_ADJOINT=1
 // Pass shade (shade_d: the same with K derivative lanes, kSpecLanes; shade_adj: the adjoint form,
 // which records the vertex on the tape and weights emission by the adjoint image instead of
-// adding it to the path): one path vertex per queued ray. Adds emission of hit emitters (MIS-weighted),
-// ends paths whose length passed the gate's support, queues next-event estimation (standard or
-// ellipsoidal), samples the BSDF, applies Russian roulette where the gate allows, and queues the
-// continuing path for the next depth.
+// adding it to the path, or as well with kAdjointImage): one path vertex per queued ray. Adds
+// emission of hit emitters (MIS-weighted), ends paths whose length passed the gate's support,
+// queues next-event estimation (standard or ellipsoidal), samples the BSDF, applies Russian
+// roulette where the gate allows, and queues the continuing path for the next depth.
 // Reads: ray queue (parity push.args.z & 1), hits[], paths[], scene. Writes: paths[], pathAccum,
 // shadow queue, the other ray queue, statistics counters. Dispatch: indirect (ray queue size).
 // One path per invocation: its connections are queued once, at the end (lib/path.glsl).
@@ -111,6 +111,7 @@ void shadeHit() {
     emissionWeights = adjointGateWeights(pixel, len) * value;
     scatterGate(-emissionWeights.y);
     scatterEmission(sp.shape, emissionWeights.x / shape.emission);
+    if ((kSpecAdjointTargetsValue & kAdjointImage) != 0u) addContribution(path, value, len);
 #else
     addContribution(path, value, len);
 #endif

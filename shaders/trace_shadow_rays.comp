@@ -10,7 +10,8 @@
 // (paths on the shadow queue).
 // _adj, the adjoint form: an unoccluded connection's adjoint weights (lib/adjoint.glsl) go to its
 // first vertex's tape entry, for backprop_paths to carry back along the path, and the gradient of
-// its own factors (the connection's segments, BSDFs, light) straight into the accumulators.
+// its own factors (the connection's segments, BSDFs, light) straight into the accumulators; with
+// kAdjointImage the interior term's connections also add their value as the plain pass does.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/bvh.glsl"
@@ -146,6 +147,7 @@ void traceConnection(uint slot) {
   // Path-length boundary (a connection on a jump): only the length moves the path across the
   // jump (gate centre: -1). A pass of one term holds connections of one kind only.
   bool onJump = kSpecTermValue == kTermPathLength || (kSpecTermValue != kTermInterior && r.info.z != kNoJump);
+  if (!onJump && (kSpecAdjointTargetsValue & kAdjointImage) != 0u) addContribution(path, r.p0Value.w, r.p1Length.w);
   vec2 weights = onJump ? vec2(0.0, adjointJumpWeight(pixel, r.info.z)) : adjointGateWeights(pixel, r.p1Length.w);
   weights *= r.p0Value.w;
   if (isnan(weights.x) || isinf(weights.x) || isnan(weights.y) || isinf(weights.y)) {

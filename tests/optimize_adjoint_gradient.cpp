@@ -17,6 +17,7 @@
 #include "host/gradient.h"
 #include "host/interrupt.h"
 #include "support/render_test.h"
+#include "support/room_scene.h"
 #include "support/scoped_env.h"
 #include "vktg/parameter_model.h"
 #include "vktg/scene.h"
@@ -96,49 +97,18 @@ GradientOptions options(uint32_t sppEdge, uint32_t sppBoundary) {
   return o;
 }
 
-// A floor (diffuse), a glossy block hovering over it and an area light, seen by a pinhole under a
-// box gate: interior, edge (the block's silhouette and shadow) and path-length-boundary terms.
-Scene roomScene() {
-  return parseSceneJson(R"({
-    "version": 1,
-    "camera": {"type": "perspective", "position": [0, 1.2, 3], "look_at": [0, 0.2, 0], "fov_y": 40, "resolution": [12, 12]},
-    "gate": {"type": "box", "a": 5.2, "b": 6.4},
-    "materials": {"floor": {"type": "diffuse", "albedo": 0.6},
-                  "metal": {"type": "conductor", "albedo": 0.8, "roughness": 0.35}},
-    "shapes": [
-      {"name": "floor", "type": "rectangle", "material": "floor", "transform": {"rotate": [-90, 0, 0], "scale": 2}},
-      {"name": "block", "type": "cube", "material": "metal",
-       "transform": {"translate": [0.1, 0.45, 0], "rotate": [0, 25, 0], "scale": 0.25}},
-      {"name": "lamp", "type": "rectangle", "emission": 8,
-       "transform": {"translate": [0.3, 1.6, 0.2], "rotate": [90, 0, 0], "scale": 0.3}}
-    ],
-    "lights": [{"type": "point", "name": "bulb", "position": [-0.8, 1.0, 0.6], "intensity": 1.5}],
-    "parameters": [
-      {"name": "block_x", "type": "translate", "shape": "block", "axis": [1, 0, 0]},
-      {"name": "bulb_y", "type": "light_position", "light": "bulb", "axis": [0, 1, 0]},
-      {"name": "floor_albedo", "type": "albedo", "material": "floor"},
-      {"name": "t0", "type": "gate_center"},
-      {"name": "spin", "type": "rotate", "shape": "block", "axis": [0, 1, 0]},
-      {"name": "gloss", "type": "roughness", "material": "metal"},
-      {"name": "lamp_power", "type": "emission", "shape": "lamp"},
-      {"name": "bulb_power", "type": "intensity", "light": "bulb"}
-    ],
-    "render": {"spp": 16, "max_depth": 4, "seed": 3}
-  })", "room.json", ".");
-}
-
 TEST(GradAdjoint, MovingShapeLightAlbedoGateUnderBoxGate) {
-  expectAdjointMatchesLanes(roomScene(), {"block_x", "bulb_y", "floor_albedo", "t0"}, options(16, 16));
+  expectAdjointMatchesLanes(test::roomScene(), {"block_x", "bulb_y", "floor_albedo", "t0"}, options(16, 16));
 }
 
 TEST(GradAdjoint, BoxGateWithATraceForEachTerm) {
   GradientOptions apart = options(16, 16);
   apart.sharePaths = false;
-  expectAdjointMatchesLanes(roomScene(), {"block_x", "bulb_y", "floor_albedo", "t0"}, apart);
+  expectAdjointMatchesLanes(test::roomScene(), {"block_x", "bulb_y", "floor_albedo", "t0"}, apart);
 }
 
 TEST(GradAdjoint, RotationRoughnessEmissionIntensity) {
-  Scene scene = roomScene();
+  Scene scene = test::roomScene();
   scene.gate = parseGateSpec("gaussian:5.8,0.4");
   expectAdjointMatchesLanes(scene, {"spin", "gloss", "lamp_power", "bulb_power"}, options(16, 16));
 }
@@ -153,7 +123,7 @@ ParameterModel modelOf(const Scene& scene, const std::vector<std::string>& names
 // The room's loss gradient with respect to four of its parameters, against a fixed adjoint image.
 struct RoomGradient {
   const std::vector<std::string> names = {"block_x", "bulb_y", "floor_albedo", "t0"};
-  const Scene scene = roomScene();
+  const Scene scene = test::roomScene();
   const ParameterModel model = modelOf(scene, names);
   const std::vector<double> theta = std::vector<double>(model.size(), 0.0);
   DeviceScene device{test::testRenderer().context(), model, theta, theta};
@@ -227,7 +197,7 @@ TEST(GradAdjoint, GradientInterruptedDuringARetryKeepsItsStartingScale) {
 // staging copy where it is not (VKTG_DEVICE_MEMORY=staged forces that on any device): the integer
 // sums are the same, so the gradient is the same bit for bit.
 TEST(GradAdjoint, StagedDeviceMemoryGivesTheSameGradient) {
-  const Scene scene = roomScene();
+  const Scene scene = test::roomScene();
   const std::vector<std::string> names = {"block_x", "bulb_y", "floor_albedo", "t0"};
   const ParameterModel model = modelOf(scene, names);
   std::vector<double> theta(model.size(), 0.0);
@@ -262,7 +232,7 @@ TEST(GradAdjoint, StagedDeviceMemoryGivesTheSameGradient) {
 // bulb's shadow of it give each strategy something to find: at 64 edge samples per pixel, leaving
 // out any one strategy's dispatch changes the gradient.
 TEST(GradAdjoint, EdgeStrategiesApartOrTogetherGiveTheSameGradient) {
-  const Scene scene = roomScene();
+  const Scene scene = test::roomScene();
   const std::vector<std::string> names = {"block_x", "bulb_y", "spin"};
   const ParameterModel model = modelOf(scene, names);
   std::vector<double> theta(model.size(), 0.0);

@@ -84,7 +84,10 @@ INSTANTIATE_TEST_SUITE_P(
                     // The same with `"gradient": "finite_differences"`: the baseline mode the
                     // experiments compare with must itself find a parameter the loss pins down.
                     ConvergenceCase{"LightHeightFiniteDifferences", "converge_light_fd.json", 0.4, 0.25},
-                    ConvergenceCase{"Heightfield4x4", "converge_heightfield.json", 0.05, 1.0 / 3.0}),
+                    ConvergenceCase{"Heightfield4x4", "converge_heightfield.json", 0.05, 1.0 / 3.0},
+                    // The interior term in 4 chained passes after a render of a quarter of its
+                    // samples: the same bound (seeds 1-4 ended at 0.0067-0.0087).
+                    ConvergenceCase{"Heightfield4x4ChainedInteriorPasses", "converge_heightfield_chained.json", 0.05, 1.0 / 3.0}),
     [](const testing::TestParamInfo<ConvergenceCase>& info) { return std::string(info.param.name); });
 
 // Log rows without their wall time (the one column that may differ between runs).
@@ -107,9 +110,10 @@ std::function<void(const std::string&)> interruptAfter(const std::string& line) 
   };
 }
 
-void expectInterrupted(const fs::path& out, uint32_t iterations, const std::string& line) {
+void expectInterrupted(const fs::path& out, uint32_t iterations, const std::string& line,
+                       const char* experiment = "converge_heightfield.json") {
   try {
-    run(kData / "converge_heightfield.json", out, iterations, interruptAfter(line));
+    run(kData / experiment, out, iterations, interruptAfter(line));
     ADD_FAILURE() << "the run was not interrupted after '" << line << "'";
   } catch (const Interrupted&) {
   }
@@ -157,6 +161,19 @@ TEST(OptimizeResume, InterruptedAndResumedRunsMatchAnUninterruptedOne) {
   expectSameBits(parts.optimizer.first, whole.optimizer.first, "first moments");
   expectSameBits(parts.optimizer.second, whole.optimizer.second, "second moments");
   EXPECT_EQ(test::readFileBytes(dir / "parts" / "parameters.json"), test::readFileBytes(dir / "whole" / "parameters.json"));
+}
+
+// Chained interior passes draw their random numbers by iteration, target and pass, and the images
+// they weight by are the iteration's own: a resumed run repeats them.
+TEST(OptimizeResume, ChainedInteriorPassesResumeBitForBit) {
+  constexpr uint32_t kIterations = 5;
+  TempDir dir;
+  run(kData / "converge_heightfield_chained.json", dir / "whole", kIterations);
+  expectInterrupted(dir / "parts", kIterations, "iteration 1/", "converge_heightfield_chained.json");
+  EXPECT_EQ(readCheckpoint(dir / "parts" / "checkpoint.bin").iteration, 2u);
+  EXPECT_EQ(resume(dir / "parts", kIterations).iterations, kIterations);
+  EXPECT_EQ(rowsWithoutTime(dir / "parts" / "log.csv"), rowsWithoutTime(dir / "whole" / "log.csv"));
+  expectSameBits(readCheckpoint(dir / "parts" / "checkpoint.bin").theta, readCheckpoint(dir / "whole" / "checkpoint.bin").theta, "θ");
 }
 
 TEST(OptimizeResume, RunInterruptedBeforeItsFirstIterationResumes) {

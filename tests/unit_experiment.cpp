@@ -243,6 +243,12 @@ const BadCase kCases[] = {
     {"finite differences without a step", [](json& j) { j["render"]["gradient"] = "finite_differences"; }, "render", "needs \"fd_step\""},
     {"zero finite-difference step", [](json& j) { j["render"]["gradient"] = "finite_differences"; j["render"]["fd_step"] = 0; }, "render.fd_step", "out of range"},
     {"step without finite differences", [](json& j) { j["render"]["fd_step"] = 0.01; }, "render.fd_step", "only used with"},
+    {"no interior pass", [](json& j) { j["render"]["interior_passes"] = 0; }, "render.interior_passes", "out of range"},
+    {"interior passes not dividing the samples", [](json& j) { j["render"]["spp_interior"] = 16; j["render"]["interior_passes"] = 3; },
+     "render.interior_passes", "must divide spp_interior (16)"},
+    {"interior passes with finite differences",
+     [](json& j) { j["render"]["gradient"] = "finite_differences"; j["render"]["fd_step"] = 0.01; j["render"]["interior_passes"] = 2; },
+     "render.interior_passes", "only used with adjoint gradients"},
     // Stopping rules.
     {"zero iterations", [](json& j) { j["stop"]["iterations"] = 0; }, "stop.iterations", "out of range"},
     {"unknown stop field", [](json& j) { j["stop"]["minutes"] = 1; }, "stop.minutes", "unknown field"},

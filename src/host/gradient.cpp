@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "host/planner.h"
 #include "vktg/error.h"
@@ -334,22 +335,62 @@ double powerOfTwoScale(double largest, double scale) {
   return std::ldexp(scale, int(std::lround(kTargetBits - std::log2(std::max(largest, 1.0)))));
 }
 
+// Writes the adjoint images of `group` (stacked as a render of the group stacks its views' images),
+// times `factor`, where the device reads them, or to the staging buffer that the group's next render
+// copies from (returned; nullptr where the host maps the image's memory). No allocation once the
+// buffers have their size, no submission of their own.
+const Buffer* writeAdjointImages(VulkanContext& context, AdjointState& state, size_t g, const std::vector<size_t>& group,
+                                 const std::vector<const ImageSet*>& adjoints, float factor) {
+  std::vector<float> flat;
+  for (size_t layer = 0; layer < adjoints[group.front()]->layers.size(); ++layer)
+    for (size_t v : group)
+      for (float a : adjoints[v]->layers.at(layer).pixels) flat.push_back(a * factor);
+  const size_t bytes = std::max<size_t>(16, flat.size() * sizeof(float));
+  Buffer& image = grownBuffer(context, state.images[g], bytes, MemoryKind::Device, "adjoint.image");
+  Buffer& destination =
+      image.mapped() ? image : grownBuffer(context, state.imageStaging[g], image.size(), MemoryKind::Readback, "adjoint.image.staging");
+  destination.upload(context, flat.data(), flat.size() * sizeof(float));
+  return image.mapped() ? nullptr : &destination;
+}
+
+// image := (image × weight + added × addedWeight) / (weight + addedWeight), pixel by pixel.
+void mergeImage(ImageSet& image, double weight, const ImageSet& added, double addedWeight) {
+  for (size_t l = 0; l < image.layers.size(); ++l) {
+    std::vector<float>& pixels = image.layers[l].pixels;
+    const std::vector<float>& more = added.layers.at(l).pixels;
+    for (size_t i = 0; i < pixels.size(); ++i)
+      pixels[i] = float((double(pixels[i]) * weight + double(more.at(i)) * addedWeight) / (weight + addedWeight));
+  }
+}
+
 }  // namespace
 
 LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
-                          const GradientOptions& options, AdjointState& state) {
+                          const GradientOptions& options, AdjointState& state, const AdjointChain* chain) {
   const ParameterModel* model = scene.model();
   if (!model) throw Error("internal: a loss gradient needs a scene with a parameter model");
   VulkanContext& context = renderer.context();
   LossGradient result;
   const ParameterEffects effects = parameterEffects(*model);
+  const uint32_t chained = chain ? chain->passes : 1;
+  if (chained == 0 || (chain && (chain->images.size() != views.size() || !chain->adjointOf || !chain->seedOf)))
+    throw Error("internal: a chained gradient needs its passes, each view's image, its adjoint and its seeds");
   std::vector<GradientPlan> plans;
   std::vector<bool> sharePaths;
   for (const AdjointView& view : views) {
     plans.push_back(planGradient(scene.scene(), view.setup, effects, options));
-    sharePaths.push_back(sharesPaths(plans.back(), options, view.setup.settings.spp));
+    // Chained interior passes trace the interior term alone.
+    sharePaths.push_back(chained == 1 && sharesPaths(plans.back(), options, view.setup.settings.spp));
     if (sharePaths.back())
       plans.back().reasons.push_back(std::string(kSharedPathsReason) + " of the paths (same spp)");
+    if (chained > 1 && plans.back().interior) {
+      if (view.setup.settings.spp % chained != 0)
+        throw Error("gradient: " + std::to_string(chained) + " chained interior passes need samples per pixel divisible by them, not " +
+                    std::to_string(view.setup.settings.spp));
+      plans.back().reasons.push_back("interior term in " + std::to_string(chained) + " chained passes of " +
+                                     std::to_string(view.setup.settings.spp / chained) +
+                                     " spp, each weighted by the adjoint of the images rendered before it");
+    }
   }
   if (!plans.empty()) result.plan = plans.front();
   const GradientLayout layout = gradientLayout(scene.scene(), scene.prepared());
@@ -358,25 +399,10 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
   // Views a render can hold together go in one group, each with its adjoint images stacked as
   // the render stacks the views' images.
   const std::vector<std::vector<size_t>> groups = viewGroups(views, options.batchViews);
-  // The images go where the host maps them, or to staging buffers that each group's first render
-  // copies from: no allocation once the buffers have their size, no submission of their own.
   state.images.resize(std::max(state.images.size(), groups.size()));
   state.imageStaging.resize(state.images.size());
-  std::vector<const Buffer*> staged(groups.size(), nullptr);
-  for (size_t g = 0; g < groups.size(); ++g) {
-    std::vector<float> flat;
-    for (size_t layer = 0; layer < views[groups[g].front()].adjoint->layers.size(); ++layer)
-      for (size_t v : groups[g]) {
-        const std::vector<float>& pixels = views[v].adjoint->layers.at(layer).pixels;
-        flat.insert(flat.end(), pixels.begin(), pixels.end());
-      }
-    const size_t bytes = std::max<size_t>(16, flat.size() * sizeof(float));
-    Buffer& image = grownBuffer(context, state.images[g], bytes, MemoryKind::Device, "adjoint.image");
-    Buffer& destination =
-        image.mapped() ? image : grownBuffer(context, state.imageStaging[g], image.size(), MemoryKind::Readback, "adjoint.image.staging");
-    destination.upload(context, flat.data(), flat.size() * sizeof(float));
-    if (!image.mapped()) staged[g] = &destination;
-  }
+  std::vector<const ImageSet*> given;
+  for (const AdjointView& view : views) given.push_back(view.adjoint);
   // The scale this gradient's attempts use. The state takes it only when the gradient is done, so
   // that one stopped part-way (Ctrl-C during a retry) leaves the scale of the last completed
   // gradient, which the checkpoint keeps and from which a resumed run repeats the same attempts.
@@ -393,32 +419,76 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
   const uint32_t targets = adjointTargets(*model);
   const double startScale = scale;
   int zeroRetries = 0;
+  // The renders of an attempt, in stages: the interior term's passes (one stage each; a stage holds
+  // a render per group of views), then every other term. A chain's stages each write the adjoint
+  // images they weight by; unchained, the first stage writes the views' own for all.
+  struct StageRender {
+    size_t group;
+    TermPass pass;
+    uint32_t stage;
+  };
+  std::vector<StageRender> renders;
+  for (uint32_t stage = 0; stage <= chained; ++stage)
+    for (size_t g = 0; g < groups.size(); ++g)
+      for (const TermPass& pass : termPasses(plans[groups[g].front()], views[groups[g].front()].setup.gate, options,
+                                             sharePaths[groups[g].front()])) {
+        const bool interior = pass.term == Term::Interior || pass.term == Term::InteriorAndPathLength;
+        if (interior ? stage < chained : stage == chained) renders.push_back({g, pass, stage});
+      }
   // A pass that overflowed the accumulators is redone with a coarser scale, one whose largest entry
   // is too coarse with a finer one: both follow from deterministic sums, so a rerun repeats them.
-  // The renders of an attempt: per group of views, one per term.
-  std::vector<std::pair<size_t, TermPass>> renders;
-  for (size_t g = 0; g < groups.size(); ++g)
-    for (const TermPass& pass : termPasses(plans[groups[g].front()], views[groups[g].front()].setup.gate, options,
-                                           sharePaths[groups[g].front()]))
-      renders.push_back({g, pass});
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
     result.attempts++;
     RenderStats stats;
     result.passMilliseconds.clear();
+    // With a chain: each view's image of every sample so far, its samples per pixel, and the
+    // adjoint images the next stage weights by.
+    std::vector<ImageSet> images = chain ? chain->images : std::vector<ImageSet>{};
+    std::vector<double> imageSpp(views.size(), chain ? double(chain->imageSpp) : 0.0);
+    std::vector<ImageSet> adjoints(views.size());
+    std::vector<const ImageSet*> current = given;
+    std::vector<const Buffer*> staged(groups.size(), nullptr);
+    uint32_t written = ~0u;  // the stage whose adjoint images the device holds
     // The first render's commands clear the accumulators and the last one's copy them for the host:
     // a gradient waits on the device once per render and batch, no more.
     for (size_t k = 0; k < renders.size(); ++k) {
-      auto [g, pass] = renders[k];
-      const AdjointView& first = views[groups[g].front()];
-      const bool groupsFirst = k == 0 || renders[k - 1].first != g;
+      const auto& [g, planned, stage] = renders[k];
+      TermPass pass = planned;
+      if (written != stage && (written == ~0u || chained > 1)) {
+        // A chain's later stages weight by the adjoint of every image so far; its interior passes
+        // each take 1 / chained of the gradient.
+        if (chained > 1 && stage > 0) {
+          for (size_t v = 0; v < views.size(); ++v) adjoints[v] = chain->adjointOf(v, images[v]);
+          for (size_t v = 0; v < views.size(); ++v) current[v] = &adjoints[v];
+        }
+        const float factor = stage < chained ? 1.0f / float(chained) : 1.0f;
+        for (size_t h = 0; h < groups.size(); ++h) staged[h] = writeAdjointImages(context, state, h, groups[h], current, factor);
+        written = stage;
+      }
       AdjointTarget target{&state.images[g], state.accumulator.get(), scale, targets, k == 0, k + 1 == renders.size(),
-                           groupsFirst ? staged[g] : nullptr};
-      RenderSetup termSetup = first.setup;
+                           std::exchange(staged[g], nullptr)};
+      target.renderImage = chain && stage < chained;
+      std::vector<AdjointView> passViews = views;
+      if (stage < chained && chained > 1)
+        for (size_t v : groups[g]) {
+          passViews[v].setup.settings.spp /= chained;
+          passViews[v].setup.settings.seed = chain->seedOf(v, stage);
+        }
+      RenderSetup termSetup = passViews[groups[g].front()].setup;
       pass.apply(termSetup);
       pass.options.adjoint = &target;
-      const RenderResult r = renderGroup(renderer, scene, views, groups[g], termSetup, pass.options);
+      const RenderResult r = renderGroup(renderer, scene, passViews, groups[g], termSetup, pass.options);
       addStats(stats, r.stats);
       for (const auto& [name, ms] : r.passMilliseconds) result.passMilliseconds[std::string(termName(pass.term)) + "/" + name] += ms;
+      if (target.renderImage) {
+        const std::vector<ImageSet> split = splitViews(r.mean, groups[g].size());
+        for (size_t i = 0; i < groups[g].size(); ++i) {
+          const size_t v = groups[g][i];
+          const double spp = termSetup.settings.spp;
+          mergeImage(images[v], imageSpp[v], split[i], spp);
+          imageSpp[v] += spp;
+        }
+      }
     }
     result.stats = stats;
     if (stats.gradientOverflows > 0) {
@@ -445,6 +515,7 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     state.scale = largest > 0 ? next : scale;
     result.theta = model->chainRule(scene.theta(), state.accumulator->readScalars(scene.scene(), scale),
                                     state.accumulator->vertexAccumulators(), scale);
+    result.images = std::move(images);
     return result;
   }
   throw Error("gradient: the accumulators overflowed at every scale tried (a non-finite or huge contribution?)");

@@ -4,6 +4,7 @@
 // `vktg fd` (central finite differences with common random numbers, the reference the derivative
 // passes are checked by).
 #pragma once
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -137,13 +138,31 @@ struct LossGradient {
   // With options.render.profile: device time per pass of the last attempt, summed over views, keyed
   // "term/pass" (the term names of termName).
   std::map<std::string, double> passMilliseconds;
+  // With an AdjointChain: each view's image from all its samples (the chain's images and every
+  // interior pass), the one the loss is best read from.
+  std::vector<ImageSet> images;
+};
+
+// Chained interior passes (docs/theory.md, "Chained interior passes"): the interior term in
+// `passes` renders of spp / passes samples per pixel each (random numbers seedOf(view, pass)), each
+// weighted by the adjoint image of every image rendered before it (the views' `images`, then the
+// interior passes before it), and adding its own paths' values to those images. The other terms
+// then weight by the adjoint of all of them. No render is weighted by an image of its own paths, so
+// the gradient is as unbiased as with an independent render, and the render the loss comes from can
+// take a fraction of the samples.
+struct AdjointChain {
+  uint32_t passes = 1;
+  std::vector<ImageSet> images;  // per view: the image rendered before the gradient (the views' adjoints are its)
+  uint32_t imageSpp = 0;         // its samples per pixel
+  std::function<ImageSet(size_t view, const ImageSet& image)> adjointOf;  // d loss / d I of a view's image
+  std::function<uint32_t(size_t view, uint32_t pass)> seedOf;             // pass 0: anything but the images' seeds
 };
 
 // d loss / d θ = sum over views and pixels of adjoint × d image / d θ, by adjoint renders of every
 // term the planner picks (options: terms, spp per term via sppBoundary / sppEdge; the interior term
 // uses each view's setup.settings.spp). `scene` must carry the ParameterModel of θ.
 LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vector<AdjointView>& views,
-                          const GradientOptions& options, AdjointState& state);
+                          const GradientOptions& options, AdjointState& state, const AdjointChain* chain = nullptr);
 
 // With `views`, both sides render all of them, as renderGradient does.
 FiniteDifferenceResult finiteDifference(Renderer& renderer, const Scene& scene, const std::string& parameter,

@@ -33,7 +33,10 @@ namespace fs = std::filesystem;
 
 // Random numbers of iteration `iteration`, target `target` and use `use` (0: the render the loss
 // comes from, 1: the gradient's renders; independent, as THEORY.md §7 requires; 2 + round: the
-// term pilot's gradients): a hash of (seed, iteration, target, use).
+// term pilot's gradients; pass × kChainedPassUse: the chained interior passes after the first,
+// above the target's bits): a hash of (seed, iteration, target, use).
+constexpr uint32_t kChainedPassUse = 1u << 24;
+
 uint32_t seedFor(uint32_t seed, uint64_t iteration, size_t target, uint32_t use) {
   return derivedSeed((uint64_t(seed) << 32) ^ (iteration * 0x9E3779B97F4A7C15ull) ^ (uint64_t(target) << 8) ^ use);
 }
@@ -359,24 +362,27 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
           options.progress("render plan (target " + e.targets[t].name + "):\n" + explainPlan(plans[t]));
         losses[t] = imageLoss(e.loss, primals[t], targets[t], e.targets[t].weight, &adjointImages[t]);
         loss += losses[t];
-        if (i == 0) initialImages[t] = primals[t];
         RenderSetup setup = primalViews[t].setup;
         setup.settings.spp = e.budget.sppInterior;
         setup.settings.seed = seedFor(e.seed, i, t, 1);
         views.push_back({setup, setups[t].lights, nullptr});
       }
-      if (i == 0)
-        for (const TargetEntry& entry : entries)
-          writeExr(initialImagePath(entry),
-                   entry.scan ? joinScanImages(e, entry, primals) : primals[entry.targets.front()]);
-      if (i % e.imagesEvery == 0 || i + 1 == e.stop.iterations) {
-        std::vector<TargetImages> figures;
-        for (size_t t = 0; t < e.targets.size(); ++t)
-          figures.push_back({e.targets[t].name, setups[t].setup.gate, &targets[t], &initialImages[t], &primals[t]});
-        writeTargetFigures(run / "images", i, figures);
-      }
-      if (initialLoss.empty()) initialLoss = losses;
       for (size_t t = 0; t < views.size(); ++t) views[t].adjoint = &adjointImages[t];
+      // Chained interior passes: pass 0 draws the unchained interior pass's random numbers (use 1),
+      // the others uses of their own beyond the pilot's.
+      std::optional<AdjointChain> chain;
+      if (e.budget.interiorPasses > 1 && !e.budget.finiteDifferences) {
+        chain.emplace();
+        chain->passes = e.budget.interiorPasses;
+        chain->images = primals;
+        chain->imageSpp = e.budget.sppPrimal;
+        chain->adjointOf = [&](size_t t, const ImageSet& image) {
+          ImageSet adjoint;
+          imageLoss(e.loss, image, targets[t], e.targets[t].weight, &adjoint);
+          return adjoint;
+        };
+        chain->seedOf = [&](size_t t, uint32_t pass) { return seedFor(e.seed, i, t, pass == 0 ? 1 : pass * kChainedPassUse); };
+      }
       LossGradient g;
       if (e.budget.finiteDifferences) {
         // The loss at θ' rendered with the gradient's random numbers (use 1): both sides of a central
@@ -424,12 +430,36 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
             options.progress("term pilot: " + formatSeconds(pilotSeconds));
           }
         }
-        g = lossGradient(renderer, scene, views, gradient, adjoint);
+        g = lossGradient(renderer, scene, views, gradient, adjoint, chain ? &*chain : nullptr);
       }
+      // The images of this θ: with a chain, from the render's samples and every interior pass's,
+      // and the loss read from them.
+      const std::vector<ImageSet>& estimates = chain ? g.images : primals;
+      if (chain) {
+        loss = 0;
+        for (size_t t = 0; t < e.targets.size(); ++t) loss += losses[t] = imageLoss(e.loss, estimates[t], targets[t], e.targets[t].weight);
+      }
+      if (i == 0) {
+        for (size_t t = 0; t < e.targets.size(); ++t) initialImages[t] = estimates[t];
+        for (const TargetEntry& entry : entries)
+          writeExr(initialImagePath(entry),
+                   entry.scan ? joinScanImages(e, entry, estimates) : estimates[entry.targets.front()]);
+      }
+      if (i % e.imagesEvery == 0 || i + 1 == e.stop.iterations) {
+        std::vector<TargetImages> figures;
+        for (size_t t = 0; t < e.targets.size(); ++t)
+          figures.push_back({e.targets[t].name, setups[t].setup.gate, &targets[t], &initialImages[t], &estimates[t]});
+        writeTargetFigures(run / "images", i, figures);
+      }
+      if (initialLoss.empty()) initialLoss = losses;
       if (options.explain && !explained && options.progress) {
         std::string plan = "gradient plan:\n";
         for (const std::string& r : g.plan.reasons) plan += "  - " + r + "\n";
-        if (!e.budget.finiteDifferences)
+        if (chain)
+          plan += "  - the adjoint image comes from a render with its own random numbers (seed of use 0); each chained interior\n"
+                  "    pass is weighted by the adjoint of that render and the passes before it, never by its own paths (a\n"
+                  "    correlated image would bias the gradient of any loss not linear in the image); the other terms by all of them\n";
+        else if (!e.budget.finiteDifferences)
           plan += "  - the adjoint image comes from a render with its own random numbers (seed of use 0), independent of the\n"
                   "    gradient's renders (use 1): a correlated one would bias the gradient of any loss not linear in the image\n";
         options.progress(plan);

@@ -210,6 +210,9 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   if (adjoint && !options.derivativeLanes.empty()) throw Error("internal: an adjoint render has no lanes");
   if (adjoint && (!adjoint->image || !adjoint->gradient || !deviceScene.model()))
     throw Error("internal: an adjoint render needs an adjoint image, accumulators and a parameter model");
+  const bool adjointImage = adjoint && adjoint->renderImage;
+  if (adjointImage && (options.pathLengthBoundary || options.edges || options.samplesPerPixel > 0))
+    throw Error("internal: only the interior term's adjoint render, at whole samples per pixel, renders its image");
   const bool derivative = lanes > 0 || adjoint;
   // Several views stack their images: `height` counts the rows of all of them.
   const uint32_t viewCount = views ? uint32_t(views->size()) : 1u;
@@ -250,8 +253,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   if (totalPaths > (uint64_t(1) << 32) * 8)
     throw Error("render: " + std::to_string(totalPaths) + " paths are too many for one render");
 
-  // An adjoint render produces no image: its film stays empty.
-  const uint64_t filmElements = adjoint ? 0 : pixels * layers * channels;
+  // An adjoint render produces no image unless asked: its film stays empty.
+  const uint64_t filmElements = adjoint && !adjointImage ? 0 : pixels * layers * channels;
   // kFilmFloatsPerElement floats per element (shift, compensated sums; see shared.h).
   const uint64_t filmFloats = std::max<uint64_t>(gpu::kFilmFloatsPerElement, gpu::kFilmFloatsPerElement * filmElements);
   const uint64_t filmBytes = filmFloats * sizeof(float);
@@ -284,7 +287,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   const uint64_t edgeBytes = edgeBuffer ? edgeBuffer->size() : 0;
   // Fail before the film is allocated, naming what the render would need.
   RenderMemory need = filmAndBatchNeed(width, height, layers, channels, lanes, extra);
-  need.film = filmBytes;  // none for an adjoint render
+  need.film = filmBytes;  // none for an adjoint render without its image
   need.scene = gpuScene.bytes + edgeBytes;
   const uint64_t budget = checkRenderMemory(context, need, options.memoryBudget);
   ChunkedBuffer& film = m_impl->filmFor(filmFloats);
@@ -391,7 +394,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
                          : options.withInterior    ? gpu::kTermInteriorAndPathLength
                                                    : gpu::kTermPathLength;
   spec[gpu::kSpecAntithetic] = options.antithetic ? 1u : 0u;
-  spec[gpu::kSpecAdjointTargets] = adjoint ? adjoint->targets : 0u;
+  spec[gpu::kSpecAdjointTargets] = adjoint ? adjoint->targets | (adjointImage ? gpu::kAdjointImage : 0u) : 0u;
   spec[gpu::kSpecEllipsoidSelection] =
       plan.ellipsoidSelection == EllipsoidSelection::Enumerate ? gpu::kEllipsoidEnumerate : gpu::kEllipsoidDescend;
   spec[gpu::kSpecCameraConnections] = fromCamera ? 1u : 0u;
@@ -410,7 +413,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   const std::string generateName = edges        ? "sample_edges"
                                    : fromCamera ? "connect_camera_boundary" + std::string(adjoint ? "_adj" : "")
                                                 : "generate_camera_rays" + variant;
-  // What finishes a batch: film accumulation (forward) or the adjoint's last step.
+  // What finishes a batch: film accumulation (forward) or the adjoint's last step (then accumulation
+  // too where an adjoint render returns its image).
   const std::string finishName = adjoint ? (edges ? "scatter_edges" : fromCamera ? "" : "backprop_paths")
                                          : (splat ? "accumulate_splats" : "accumulate");
   // A GPU samples edges with one pipeline per strategy, a CPU device with one for all (the reasons:
@@ -429,7 +433,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   for (const SpecValues& s : generateSpecs) passes.push_back({generateName, s});
   passes.insert(passes.end(), {{"intersect_closest", spec}, {shadeName, spec}, {shadowName, spec}, {"set_dispatch_args", spec}});
   if (!finishName.empty()) passes.push_back({finishName, spec});
-  if (!adjoint) passes.push_back({"resolve", spec});
+  if (adjointImage) passes.push_back({"accumulate", spec});
+  if (filmElements > 0) passes.push_back({"resolve", spec});
   pipelines.prepare(passes);
   std::vector<VkPipeline> generate;
   for (const SpecValues& s : generateSpecs) generate.push_back(pipelines.get(generateName, s));
@@ -438,13 +443,15 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   VkPipeline shadow = pipelines.get(shadowName, spec);
   VkPipeline setArgs = pipelines.get("set_dispatch_args", spec);
   VkPipeline finish = finishName.empty() ? VK_NULL_HANDLE : pipelines.get(finishName, spec);
-  VkPipeline resolve = adjoint ? VK_NULL_HANDLE : pipelines.get("resolve", spec);
+  VkPipeline accumulate = finishName == "accumulate" ? finish : adjointImage ? pipelines.get("accumulate", spec) : VK_NULL_HANDLE;
+  VkPipeline resolve = filmElements > 0 ? pipelines.get("resolve", spec) : VK_NULL_HANDLE;
   VkPipelineLayout layout = pipelines.layout();
   VkDescriptorSet ds = set.get();
 
   const uint32_t maxDepth = settings.maxDepth;
-  // + resolve in the last batch, + 2 when the edges are sampled a strategy at a time
-  PassProfiler profiler(context, 11 + 6 * maxDepth, options.profile);
+  // + resolve in the last batch, + 2 when the edges are sampled a strategy at a time, + 1 for an
+  // adjoint render's image
+  PassProfiler profiler(context, 12 + 6 * maxDepth, options.profile);
   CommandBuffer cmdBuffer(context, "render batch");
   VkCommandBuffer cmd = cmdBuffer.get();
 
@@ -478,7 +485,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   const bool countersCopied = !wave.counters.mapped();
   // (A film of several chunks, beyond a storage buffer's range, goes back a chunk at a time through
   // one chunk's staging: a copy of all of it would need as much host-visible memory again.)
-  const bool filmCopied = !adjoint && !film.chunks.front().hostReadable() && film.single();
+  const bool filmCopied = filmElements > 0 && !film.chunks.front().hostReadable() && film.single();
   const uint64_t countersBytes = gpu::kCounterCount * sizeof(uint32_t);
   if (countersCopied) grownBuffer(context, m_impl->countersReadback, countersBytes, MemoryKind::Readback, "counters.readback");
   if (filmCopied) grownBuffer(context, m_impl->filmReadback, filmBytes, MemoryKind::Readback, "film.readback");
@@ -542,18 +549,20 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
       dispatchIndirect(shadeName.c_str(), shade, gpu::kArgsRays);
       traceShadowRays();
     }
-    if (finishName == "accumulate") {
+    // The adjoint's last step, then the film's accumulation (an adjoint render's only with its image).
+    if (adjoint && finish != VK_NULL_HANDLE) {
+      pushArgs(cmd, layout, 0, 0, 0, active * slotsPerSample);
+      dispatch(finishName.c_str(), finish, groupsFor(uint64_t(active) * slotsPerSample));
+    }
+    if (accumulate != VK_NULL_HANDLE) {
       uint64_t pathsPerPixel = (active + pixels - 1) / pixels;
       for (uint32_t round = 0; uint64_t(round) * gpu::kPathsPerRound < pathsPerPixel; ++round) {
         pushArgs(cmd, layout, firstLinear, round, result.stats.batches, active);
-        dispatch("accumulate", finish, groupsFor(filmElements));
+        dispatch("accumulate", accumulate, groupsFor(filmElements));
       }
     } else if (finishName == "accumulate_splats") {
       pushArgs(cmd, layout, 0, 0, 0, active);
       dispatch("accumulate_splats", finish, groupsFor(uint64_t(active) * layers * lanes));
-    } else if (finish != VK_NULL_HANDLE) {
-      pushArgs(cmd, layout, 0, 0, 0, active * slotsPerSample);
-      dispatch(finishName.c_str(), finish, groupsFor(uint64_t(active) * slotsPerSample));
     }
     if (done + active == totalPaths) finishRender();
     hostReadBarrier(cmd);  // the counters (and a mapped film) are read by the host after the fence
@@ -591,7 +600,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   stats.bufferChunks = uint32_t(
       std::max({gpuScene.triangles.chunks.size(), gpuScene.bvhNodes.chunks.size(), film.chunks.size()}));
   result.passMilliseconds = profiler.millisecondsPerPass();
-  if (adjoint) return result;
+  if (filmElements == 0) return result;
 
   std::vector<float> resolved(filmFloats), mean(filmElements), variance(filmElements);
   if (filmCopied) {

@@ -34,6 +34,10 @@ struct AdjointTarget {
   // Where the host wrote the image when it cannot map `image`'s memory: this render's first commands
   // copy it over (the first render of each image's views).
   const Buffer* imageStaging = nullptr;
+  // The interior term's render also returns the image of its paths (RenderResult::mean), as a
+  // plain render with the same seed and samples would: a chained gradient's later passes weight
+  // by an adjoint image that includes it (lossGradient, AdjointChain).
+  bool renderImage = false;
 };
 
 struct RenderOptions {
@@ -48,7 +52,7 @@ struct RenderOptions {
   // Non-empty: the derivative variants of the passes also compute d image / d θ for these
   // parameters (forward mode), at most kMaxDerivativeLanes at once.
   std::vector<ParameterBinding> derivativeLanes;
-  // Or the adjoint form (no lanes, no image).
+  // Or the adjoint form (no lanes; no image unless AdjointTarget::renderImage).
   const AdjointTarget* adjoint = nullptr;
   // Which term the render computes: the interior term (default), or the path-length-boundary
   // term of the gate's jumps (then the image channel stays zero).
@@ -110,7 +114,7 @@ struct RenderStats {
 };
 
 struct RenderResult {
-  ImageSet mean;      // one layer per gate layer (empty for an adjoint render)
+  ImageSet mean;      // one layer per gate layer (empty for an adjoint render without renderImage)
   ImageSet variance;  // variance of each pixel's mean (its squared standard error)
   // Per derivative lane (RenderOptions::derivativeLanes): d mean / d θ and its variance.
   std::vector<ImageSet> derivatives;

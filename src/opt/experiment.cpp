@@ -24,6 +24,8 @@ namespace fs = std::filesystem;
 constexpr uint32_t kExperimentVersion = 1;
 constexpr uint32_t kMaxSpp = 1u << 30;
 constexpr uint32_t kMaxDepth = 1024;
+// Each chained interior pass is a render and a round trip to the host for its adjoint image.
+constexpr uint32_t kMaxInteriorPasses = 64;
 constexpr uint32_t kMaxUint32 = std::numeric_limits<uint32_t>::max();
 constexpr uint32_t kSynthesizeSeedBase = 0x5eed;
 // Targets after scans are expanded: each is a log column and a render view.
@@ -486,11 +488,14 @@ class ExperimentParser {
 
   void parseRender(const JsonValue& value) {
     const JsonObject o(value,
-                       {"spp", "spp_interior", "spp_edge", "spp_boundary", "spp_boundary_camera", "terms", "antithetic",
-                        "nee", "max_depth", "gradient", "fd_step"});
+                       {"spp", "spp_interior", "interior_passes", "spp_edge", "spp_boundary", "spp_boundary_camera", "terms",
+                        "antithetic", "nee", "max_depth", "gradient", "fd_step"});
     BudgetSpec& b = m_x.budget;
     b.sppPrimal = o.uinteger("spp", b.sppPrimal, 1, kMaxSpp);
     b.sppInterior = o.uinteger("spp_interior", b.sppInterior, 1, kMaxSpp);
+    b.interiorPasses = o.uinteger("interior_passes", b.interiorPasses, 1, kMaxInteriorPasses);
+    if (b.sppInterior % b.interiorPasses != 0)
+      o.field("interior_passes").fail("must divide spp_interior (" + std::to_string(b.sppInterior) + ")");
     // Samples per pixel on average, fractions allowed (fewer samples than pixels, spread over
     // them), or "auto": the term pilot's choice.
     auto termSpp = [&](const char* key, double& spp, bool& pilot) {
@@ -521,6 +526,7 @@ class ExperimentParser {
     const std::optional<double> step = positive(o, "fd_step");
     if (b.finiteDifferences && !step) value.fail("\"gradient\": \"finite_differences\" needs \"fd_step\", the step in parameter units");
     if (!b.finiteDifferences && step) o.field("fd_step").fail("only used with \"gradient\": \"finite_differences\"");
+    if (b.finiteDifferences && o.has("interior_passes")) o.field("interior_passes").fail("only used with adjoint gradients");
     b.finiteDifferenceStep = step.value_or(0.0);
   }
 

@@ -98,6 +98,11 @@ struct PreconditionerSpec {
 struct BudgetSpec {
   uint32_t sppPrimal = 16;          // the render the loss and its adjoint image come from
   uint32_t sppInterior = 16;
+  // The interior term in this many chained passes of sppInterior / interiorPasses samples, each
+  // weighted by the adjoint of the render and the passes before it (host/gradient.h AdjointChain):
+  // the loss then comes from sppPrimal + sppInterior samples, and sppPrimal can be a fraction of
+  // sppInterior without a noisier adjoint.
+  uint32_t interiorPasses = 1;
   // The other terms' samples per pixel on average (fractions allowed: loss gradients spread fewer
   // samples than pixels over the image).
   double sppEdge = 16;

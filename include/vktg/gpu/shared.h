@@ -204,6 +204,9 @@ VKTG_CONST(uint, kAdjointGate, 16);       // the gate's centre
 VKTG_CONST(uint, kAdjointVertexX, 32);
 VKTG_CONST(uint, kAdjointVertexY, 64);
 VKTG_CONST(uint, kAdjointVertexZ, 128);
+// Not a target: the interior term's paths also add their values to the film, as a render's do, so
+// that later passes of a chained gradient can weight by an adjoint image that includes them.
+VKTG_CONST(uint, kAdjointImage, 256);
 
 VKTG_CONST(uint, kTermInterior, 0);       // d/dθ [W(L) f] along sampled paths
 VKTG_CONST(uint, kTermPathLength, 1);     // paths on L = s at the gate's jumps, weighted ΔW(s) dL/dθ
