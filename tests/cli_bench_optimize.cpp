@@ -1,7 +1,7 @@
 // `vktg bench optimize` at toy sizes: a row per heightfield with every time measured, and with
 // --profile the device time of every pass of the render and of each gradient variant, named by
 // term (what docs/benchmarks.md's breakdown of a loss gradient is read from), and the term pilot's
-// counts with all terms and an iteration at them. Speed is the
+// counts with all terms and an iteration at them, also with chained interior passes. Speed is the
 // benchmark's output, never asserted here.
 #include <gtest/gtest.h>
 
@@ -21,8 +21,8 @@ namespace {
 
 TEST(CliBenchOptimize, EveryRowTimedAndEveryPassProfiled) {
   TempDir dir;
-  CliResult r = runVktg({"bench", "optimize", "--sizes", "3,4", "--runs", "1", "--scale", "0.125", "--profile", "--out",
-                         (dir / "bench").string()});
+  CliResult r = runVktg({"bench", "optimize", "--sizes", "3,4", "--runs", "1", "--scale", "0.125", "--profile",
+                         "--interior-passes", "2", "--out", (dir / "bench").string()});
   ASSERT_EQ(r.exitCode, 0) << r.describe();
   std::istringstream csv(readFileBytes(dir / "bench" / "bench.csv"));
   std::string line;
@@ -35,8 +35,10 @@ TEST(CliBenchOptimize, EveryRowTimedAndEveryPassProfiled) {
     std::vector<double> cells;
     std::istringstream in(row);
     for (std::string cell; std::getline(in, cell, ',');) cells.push_back(std::stod(cell));
-    ASSERT_EQ(cells.size(), 21u) << row;
-    for (size_t c = 6; c <= 18; ++c) EXPECT_TRUE(std::isfinite(cells[c]) && cells[c] > 0) << row << ": column " << c;
+    ASSERT_EQ(cells.size(), 26u) << row;
+    // Every time, and the chained iteration's (2 passes of 1 sample after a render of 1) with its
+    // two variance ratios.
+    for (size_t c = 6; c <= 23; ++c) EXPECT_TRUE(std::isfinite(cells[c]) && cells[c] > 0) << row << ": column " << c;
     // The term pilot's counts (edges, boundary, its connections from the camera): at least
     // kTermPilotMinSpp per pixel, at most kTermPilotMaxFactor times the render's 2.
     for (size_t c : {13, 14, 15})
@@ -44,7 +46,8 @@ TEST(CliBenchOptimize, EveryRowTimedAndEveryPassProfiled) {
   }
   const std::string log = r.out + r.err;
   for (const char* pass : {"render: ", "interior/shade_adj", "edges/sample_edges", "boundary/shade_adj",
-                           "boundary-from-camera/connect_camera_boundary_adj", "interior+boundary/shade_adj"})
+                           "boundary-from-camera/connect_camera_boundary_adj", "interior+boundary/shade_adj",
+                           "interior/accumulate"})
     EXPECT_NE(log.find(pass), std::string::npos) << "no " << pass << " in the profile\n" << log;
 }
 

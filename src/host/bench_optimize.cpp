@@ -69,9 +69,9 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 // The adjoint image of an L2 loss, 2 (I(θ) - T), against a target T rendered with the heights moved
 // by up to 3 cm in a smooth pattern: the gradient the terms add up to is a loss's, so the term
 // pilot weighs their variances as an optimisation would. Both images at 4x the render's samples;
-// the scene is left at θ.
+// the scene is left at θ. `target` receives T.
 ImageSet lossAdjoint(Renderer& renderer, DeviceScene& device, const RenderSetup& setup, const RenderOptions& options,
-                     const std::vector<double>& theta) {
+                     const std::vector<double>& theta, ImageSet& target) {
   RenderSetup fine = setup;
   fine.settings.spp *= 4;
   fine.settings.seed = 11;
@@ -80,12 +80,62 @@ ImageSet lossAdjoint(Renderer& renderer, DeviceScene& device, const RenderSetup&
   for (size_t k = 0; k < moved.size(); ++k) moved[k] = theta[k] + 0.03 * std::sin(0.37 * double(k));
   device.update(moved, true);
   fine.settings.seed = 12;
-  const ImageSet target = renderer.render(device, fine, options).mean;
+  target = renderer.render(device, fine, options).mean;
   device.update(theta, true);
   for (size_t l = 0; l < adjoint.layers.size(); ++l)
     for (size_t i = 0; i < adjoint.layers[l].pixels.size(); ++i)
       adjoint.layers[l].pixels[i] = 2.0f * (adjoint.layers[l].pixels[i] - target.layers[l].pixels[i]);
   return adjoint;
+}
+
+// 2 (I - T): the adjoint image of the L2 loss against T.
+ImageSet l2Adjoint(const ImageSet& image, const ImageSet& target) {
+  ImageSet a = image;
+  for (size_t l = 0; l < a.layers.size(); ++l)
+    for (size_t i = 0; i < a.layers[l].pixels.size(); ++i)
+      a.layers[l].pixels[i] = 2.0f * (image.layers[l].pixels[i] - target.layers[l].pixels[i]);
+  return a;
+}
+
+// The variance of an iteration's whole gradient of the L2 loss against `target` (all terms at `g`'s
+// samples, the adjoint image from the iteration's own render) with `passes` chained interior passes
+// after a render of 1/passes of the samples, relative to one interior pass after a render of all of
+// them: the sum over the heights of each one's variance over kChainedVarianceSeeds iterations with
+// independent random numbers, the scene held at θ. The chain's adjoint images hold fewer samples
+// than a whole render's (docs/theory.md 4.10), which matters most where I is near T.
+double chainedVarianceRatio(Renderer& renderer, DeviceScene& device, const RenderSetup& setup, const RenderOptions& options,
+                            uint32_t passes, const ImageSet& target, const GradientOptions& g) {
+  constexpr uint32_t kChainedVarianceSeeds = 16;
+  auto summedVariance = [&](bool chained) {
+    std::vector<std::vector<double>> runs;
+    AdjointState state;
+    for (uint32_t s = 0; s < kChainedVarianceSeeds; ++s) {
+      RenderSetup primal = setup;
+      primal.settings.seed = 5000 + 7919 * s;
+      if (chained) primal.settings.spp /= passes;
+      const ImageSet image = renderer.render(device, primal, options).mean;
+      const ImageSet adjoint = l2Adjoint(image, target);
+      AdjointView view{setup, {}, &adjoint};
+      view.setup.settings.seed = 6000 + 7919 * s;
+      AdjointChain chain;
+      chain.passes = passes;
+      chain.images = {image};
+      chain.imageSpp = primal.settings.spp;
+      chain.adjointOf = [&](size_t, const ImageSet& soFar) { return l2Adjoint(soFar, target); };
+      chain.seedOf = [&](size_t, uint32_t pass) { return view.setup.settings.seed + 1 + pass; };
+      runs.push_back(lossGradient(renderer, device, {view}, g, state, chained ? &chain : nullptr).theta);
+    }
+    double total = 0;
+    for (size_t k = 0; k < runs.front().size(); ++k) {
+      double mean = 0, squares = 0;
+      for (const auto& r : runs) mean += r[k] / double(runs.size());
+      for (const auto& r : runs) squares += (r[k] - mean) * (r[k] - mean);
+      total += squares / double(runs.size() - 1);
+    }
+    return total;
+  };
+  const double plain = summedVariance(false);
+  return summedVariance(true) / plain;
 }
 
 }  // namespace
@@ -116,21 +166,35 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     RenderSetup setup = RenderSetup::of(scene);
     RenderOptions renderOptions;
     renderOptions.memoryBudget = options.memoryBudget;
-    const ImageSet adjoint = lossAdjoint(renderer, device, setup, renderOptions, theta);
+    ImageSet target;
+    const ImageSet adjoint = lossAdjoint(renderer, device, setup, renderOptions, theta, target);
     const std::vector<AdjointView> views = {{setup, {}, &adjoint}};
+    // The chained iteration: its render at spp / passes, then the gradient whose interior passes
+    // weight by 2 (I - T) of the images so far (the render's own adjoint stands in for its first).
+    const uint32_t passes = options.interiorPasses;
+    const bool chained = passes > 1 && spp % passes == 0;
+    RenderSetup chainedSetup = setup;
+    chainedSetup.settings.spp = chained ? spp / passes : spp;
+    AdjointChain chain;
+    chain.passes = passes;
+    chain.imageSpp = chainedSetup.settings.spp;
+    chain.adjointOf = [&](size_t, const ImageSet& image) { return l2Adjoint(image, target); };
+    chain.seedOf = [&](size_t, uint32_t pass) { return setup.settings.seed + 1 + pass; };
     renderOptions.profile = options.profile;
     struct Variant {
       const char* name;
       double* seconds;
       bool interior, edges, pathLength, sharePaths = true;
       bool pilotSamples = false;  // the edge and boundary terms at the term pilot's counts
+      bool chained = false;       // the interior term in options.interiorPasses chained passes
     };
     const Variant variants[] = {{"interior", &row.interiorSeconds, true, false, false},
                                 {"edges", &row.edgeSeconds, false, true, false},
                                 {"path-length boundary", &row.boundarySeconds, false, false, true},
                                 {"all terms", &row.allSeconds, true, true, true},  // every term the options allow
                                 {"all terms apart", &row.allApartSeconds, true, true, true, false},
-                                {"all terms, pilot's samples", &row.pilotAllSeconds, true, true, true, true, true}};
+                                {"all terms, pilot's samples", &row.pilotAllSeconds, true, true, true, true, true},
+                                {"all terms, pilot's samples, chained", &row.pilotChainedSeconds, true, true, true, true, true, true}};
     auto sayProfile = [&](const std::string& what, const std::map<std::string, double>& passes) {
       if (!options.profile) return;
       double total = 0;
@@ -173,9 +237,11 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
       g.interior = v.interior, g.edges = v.edges, g.pathLength = v.pathLength && options.pathLength;
       g.sharePaths = v.sharePaths;
       withPilot(g, v);
-      lossGradient(renderer, device, views, g, state);
+      if (v.chained && !chained) continue;
+      if (v.chained) chain.images = {renderer.render(device, chainedSetup, renderOptions).mean};
+      lossGradient(renderer, device, views, g, state, v.chained ? &chain : nullptr);
     }
-    std::vector<double> update, checked, render;
+    std::vector<double> update, checked, render, chainedRender;
     std::vector<std::vector<double>> terms(std::size(variants));
     for (uint32_t run = 0; run < options.runs; ++run) {
       for (double& t : theta) t += step(rng);
@@ -189,6 +255,11 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
       const RenderResult primal = renderer.render(device, setup, renderOptions);
       render.push_back(secondsSince(start));
       if (run + 1 == options.runs) sayProfile("render", primal.passMilliseconds);
+      if (chained) {
+        start = std::chrono::steady_clock::now();
+        chain.images = {renderer.render(device, chainedSetup, renderOptions).mean};
+        chainedRender.push_back(secondsSince(start));
+      }
       for (size_t v = 0; v < std::size(variants); ++v) {
         if (variants[v].pathLength && !variants[v].interior && !options.pathLength) continue;
         GradientOptions g;
@@ -197,8 +268,9 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
         g.pathLength = variants[v].pathLength && options.pathLength;
         g.sharePaths = variants[v].sharePaths;
         withPilot(g, variants[v]);
+        if (variants[v].chained && !chained) continue;
         start = std::chrono::steady_clock::now();
-        const LossGradient gradient = lossGradient(renderer, device, views, g, state);
+        const LossGradient gradient = lossGradient(renderer, device, views, g, state, variants[v].chained ? &chain : nullptr);
         terms[v].push_back(secondsSince(start));
         if (run + 1 == options.runs) sayProfile(variants[v].name, gradient.passMilliseconds);
       }
@@ -206,8 +278,24 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     row.updateSeconds = median(update);
     row.checkSeconds = std::max(0.0, median(checked) - row.updateSeconds);
     row.renderSeconds = median(render);
+    row.chainedRenderSeconds = chained ? median(chainedRender) : std::nan("");
     for (size_t v = 0; v < std::size(variants); ++v)
       *variants[v].seconds = terms[v].empty() ? std::nan("") : median(terms[v]);
+    row.chainedVarianceRatio = row.chainedVarianceRatioAtTarget = std::nan("");
+    if (chained) {
+      GradientOptions g;
+      g.render = renderOptions;
+      g.render.profile = false;
+      g.pathLength = options.pathLength;
+      withPilot(g, variants[std::size(variants) - 1]);
+      row.chainedVarianceRatio = chainedVarianceRatio(renderer, device, setup, renderOptions, passes, target, g);
+      // Where the optimisation ends: the target is the image at θ itself (the render lossAdjoint made).
+      ImageSet atTheta = target;
+      for (size_t l = 0; l < atTheta.layers.size(); ++l)
+        for (size_t i = 0; i < atTheta.layers[l].pixels.size(); ++i)
+          atTheta.layers[l].pixels[i] += 0.5f * adjoint.layers[l].pixels[i];
+      row.chainedVarianceRatioAtTarget = chainedVarianceRatio(renderer, device, setup, renderOptions, passes, atTheta, g);
+    }
 
     char line[512];
     std::snprintf(line, sizeof line,
@@ -224,6 +312,15 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
                   row.pilotSppEdge, row.pilotSppBoundary, row.pilotSppBoundaryCamera, row.pilotVarianceRatio, row.pilotAllSeconds / row.renderSeconds,
                   row.iterationSeconds(true) / row.renderSeconds);
     options.say(line);
+    if (chained) {
+      std::snprintf(line, sizeof line,
+                    "  the same with the interior term in %u chained passes after a render of %u spp (%.4f s): all terms "
+                    "%.2fx, iteration %.2fx the render; the gradient's variance %.2fx (measured), %.2fx with the target "
+                    "at θ",
+                    passes, chainedSetup.settings.spp, row.chainedRenderSeconds, row.pilotChainedSeconds / row.renderSeconds,
+                    row.chainedIterationSeconds() / row.renderSeconds, row.chainedVarianceRatio, row.chainedVarianceRatioAtTarget);
+      options.say(line);
+    }
     // The adjoint figures are kept before the forward-mode contrast, which builds the scene again for
     // every run (tens of seconds at 10^6 heights), so a run stopped there keeps them.
     row.denseSeconds = std::nan("");
@@ -253,13 +350,13 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
 void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOptimizeOptions& options, const std::string& command) {
   std::ostringstream csv;
   csv << "size,parameters,triangles,build_s,update_s,check_s,render_s,interior_s,edge_s,boundary_s,all_s,all_apart_s,iteration_s,"
-         "pilot_spp_edge,pilot_spp_boundary,pilot_spp_boundary_camera,pilot_variance_ratio,pilot_all_s,pilot_iteration_s,dense_lanes,dense_s\n";
+         "pilot_spp_edge,pilot_spp_boundary,pilot_spp_boundary_camera,pilot_variance_ratio,pilot_all_s,pilot_iteration_s,chained_render_s,chained_all_s,chained_iteration_s,chained_variance_ratio,chained_variance_ratio_at_target,dense_lanes,dense_s\n";
   for (const BenchOptimizeRow& r : report.rows)
     csv << r.size << "," << r.parameters << "," << r.triangles << "," << r.buildSeconds << "," << r.updateSeconds << "," << r.checkSeconds << ","
         << r.renderSeconds << "," << r.interiorSeconds << "," << r.edgeSeconds << "," << r.boundarySeconds << ","
         << r.allSeconds << "," << r.allApartSeconds << "," << r.iterationSeconds() << "," << r.pilotSppEdge << ","
         << r.pilotSppBoundary << "," << r.pilotSppBoundaryCamera << "," << r.pilotVarianceRatio << "," << r.pilotAllSeconds << "," << r.iterationSeconds(true)
-        << "," << r.denseLanes << "," << r.denseSeconds << "\n";
+        << "," << r.chainedRenderSeconds << "," << r.pilotChainedSeconds << "," << r.chainedIterationSeconds() << "," << r.chainedVarianceRatio << "," << r.chainedVarianceRatioAtTarget << "," << r.denseLanes << "," << r.denseSeconds << "\n";
   std::filesystem::create_directories(options.outDir);
   writeFileAtomic(options.outDir / "bench.csv", csv.str());
 
@@ -271,11 +368,14 @@ void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOpti
      << "each traces its own. Pilot: the term pilot's samples per pixel for the edge and path-length-boundary terms\n"
      << "(the latter's connections from path vertices, then from the camera; the interior term's fixed at the\n"
      << "render's) and the variance of the gradient it predicts for them, relative\n"
-     << "to every term at the render's samples; then all terms and an iteration at those samples.\n\n"
+     << "to every term at the render's samples; then all terms and an iteration at those samples. Chained: the same\n"
+     << "with the render at 1/" << options.interiorPasses << " of the samples and the interior term in " << options.interiorPasses
+     << " chained passes, and its gradient's variance relative to the unchained one's (measured over 16 seeds; then\n"
+     << "with the target at θ, where the optimisation ends).\n\n"
      << "| heightfield | parameters | triangles | render | interior | edges | path-length boundary | all terms run "
         "| all, apart | update | SAH check | iteration | pilot spp (edge, boundary, camera), variance | all terms, pilot "
-        "| iteration, pilot | forward lanes (heights) |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "| iteration, pilot | iteration, pilot, chained (variance; with the target at θ) | forward lanes (heights) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto ratio = [](double seconds, double render) {
     if (std::isnan(seconds)) return std::string("skipped");
     char text[32];
@@ -285,25 +385,29 @@ void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOpti
   char cell[512];
   for (const BenchOptimizeRow& r : report.rows) {
     std::snprintf(cell, sizeof cell,
-                  "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %s | %.4f | %.4f | %s | %g, %g, %g, %.2fx | %s | **%s** | %s (%u) |\n",
+                  "| %ux%u | %llu | %llu | %.4f | %s | %s | %s | **%s** | %s | %.4f | %.4f | %s | %g, %g, %g, %.2fx | %s | **%s** | **%s** (%.2fx, %.2fx) | %s (%u) |\n",
                   r.size, r.size, (unsigned long long)r.parameters, (unsigned long long)r.triangles, r.renderSeconds,
                   ratio(r.interiorSeconds, r.renderSeconds).c_str(), ratio(r.edgeSeconds, r.renderSeconds).c_str(),
                   ratio(r.boundarySeconds, r.renderSeconds).c_str(), ratio(r.allSeconds, r.renderSeconds).c_str(),
                   ratio(r.allApartSeconds, r.renderSeconds).c_str(), r.updateSeconds, r.checkSeconds,
                   ratio(r.iterationSeconds(), r.renderSeconds).c_str(), r.pilotSppEdge, r.pilotSppBoundary,
                   r.pilotSppBoundaryCamera, r.pilotVarianceRatio, ratio(r.pilotAllSeconds, r.renderSeconds).c_str(),
-                  ratio(r.iterationSeconds(true), r.renderSeconds).c_str(), ratio(r.denseSeconds, r.renderSeconds).c_str(),
+                  ratio(r.iterationSeconds(true), r.renderSeconds).c_str(), ratio(r.chainedIterationSeconds(), r.renderSeconds).c_str(), r.chainedVarianceRatio,
+                  r.chainedVarianceRatioAtTarget,
+                  ratio(r.denseSeconds, r.renderSeconds).c_str(),
                   r.denseLanes);
     md << cell;
   }
   writeFileAtomic(options.outDir / "table.md", md.str());
 
   LinePlot plot{"Cost relative to a render (" + report.device + ")", "log10 parameters", "seconds / render", true, {}};
-  PlotSeries iteration{"iteration"}, pilotIteration{"iteration, term pilot's samples"}, all{"gradient, all terms run"},
+  PlotSeries iteration{"iteration"}, pilotIteration{"iteration, term pilot's samples"},
+      chainedIteration{"iteration, pilot's samples, chained interior"}, all{"gradient, all terms run"},
       interior{"interior"}, edges{"edges"}, boundary{"path-length boundary"}, dense{"forward lanes"};
   for (const BenchOptimizeRow& r : report.rows) {
     const double x = std::log10(double(r.parameters));
     for (auto [series, seconds] : {std::pair{&iteration, r.iterationSeconds()}, {&pilotIteration, r.iterationSeconds(true)},
+                                   {&chainedIteration, r.chainedIterationSeconds()},
                                    {&all, r.allSeconds},
                                    {&interior, r.interiorSeconds}, {&edges, r.edgeSeconds},
                                    {&boundary, r.boundarySeconds}, {&dense, r.denseSeconds}}) {
@@ -311,7 +415,7 @@ void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOpti
       series->y.push_back(seconds / r.renderSeconds);
     }
   }
-  plot.series = {iteration, pilotIteration, all, interior, edges, boundary, dense};
+  plot.series = {iteration, pilotIteration, chainedIteration, all, interior, edges, boundary, dense};
   writeLinePlot(options.outDir / "plot.png", plot);
 }
 

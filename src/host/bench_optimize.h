@@ -19,6 +19,9 @@ struct BenchOptimizeOptions : BenchOptions {
   uint32_t spp = 16;                              // of the render and of every gradient term
   bool pathLength = true;                         // false: skip the path-length-boundary term (and "all three")
   bool profile = false;                           // say each pass's device time (last run) for the render and every variant
+  // Chained interior passes (host/gradient.h AdjointChain): an iteration whose render takes spp /
+  // interiorPasses samples and whose interior term runs in that many passes (1: not measured).
+  uint32_t interiorPasses = 4;
 };
 
 struct BenchOptimizeRow {
@@ -37,6 +40,12 @@ struct BenchOptimizeRow {
   // relative to all terms at the render's samples.
   double pilotSppEdge = 0, pilotSppBoundary = 0, pilotSppBoundaryCamera = 0;
   double pilotAllSeconds = 0, pilotVarianceRatio = 0;
+  // At the pilot's samples with the interior term in interiorPasses chained passes: the render of
+  // spp / interiorPasses samples and all terms (NaN: not measured).
+  double chainedRenderSeconds = 0, pilotChainedSeconds = 0;
+  // Its gradient's variance relative to the unchained one's, measured against the bench's target and
+  // against a target equal to the image at θ (where an optimisation ends).
+  double chainedVarianceRatio = 0, chainedVarianceRatioAtTarget = 0;
   uint32_t denseLanes = 0;        // parameters of the forward-mode contrast
   double denseSeconds = 0;        // their derivative images (all terms)
   // An iteration of `vktg optimize` on the device: update + render + the gradient of every term run
@@ -44,6 +53,10 @@ struct BenchOptimizeRow {
   double iterationSeconds(bool pilot = false) const {
     return updateSeconds + checkSeconds / double(kBvhQualityCheckInterval) + renderSeconds +
            (pilot ? pilotAllSeconds : allSeconds);
+  }
+  // The same at the pilot's samples with chained interior passes (NaN: not measured).
+  double chainedIterationSeconds() const {
+    return updateSeconds + checkSeconds / double(kBvhQualityCheckInterval) + chainedRenderSeconds + pilotChainedSeconds;
   }
 };
 
