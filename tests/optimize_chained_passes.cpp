@@ -11,8 +11,11 @@
 //   pass) for that to lie far outside the tolerance, which `biased` checks.
 // - Adjoint images written between the passes reach the device through staging memory as they do
 //   through mapped memory: the same gradient bit for bit.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 

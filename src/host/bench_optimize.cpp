@@ -169,8 +169,9 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     ImageSet target;
     const ImageSet adjoint = lossAdjoint(renderer, device, setup, renderOptions, theta, target);
     const std::vector<AdjointView> views = {{setup, {}, &adjoint}};
-    // The chained iteration: its render at spp / passes, then the gradient whose interior passes
-    // weight by 2 (I - T) of the images so far (the render's own adjoint stands in for its first).
+    // The chained iteration: its render at spp / passes, then the gradient whose later interior
+    // passes weight by 2 (I - T) of the images so far (the first by the bench's fixed adjoint image,
+    // as the unchained gradient is: the same work).
     const uint32_t passes = options.interiorPasses;
     const bool chained = passes > 1 && spp % passes == 0;
     RenderSetup chainedSetup = setup;
