@@ -283,6 +283,19 @@ TEST(OptimizeCli, RunWritesItsFilesAndTheOptimisedSceneRenders) {
   EXPECT_EQ(readLogColumns(out / "log.csv").at("iteration").size(), 14u);
 }
 
+// --explain says how a chained gradient is weighted: the plan names the passes, and the note on
+// the adjoint image says that no pass is weighted by its own paths.
+TEST(OptimizeCli, ChainedInteriorPassesAreExplained) {
+  TempDir dir;
+  test::CliResult r = test::runVktg({"optimize", (kData / "converge_heightfield_chained.json").string(), "--out",
+                                     (dir / "run").string(), "--iterations", "1", "--explain"});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_NE(r.err.find("interior term in 4 chained passes of 16 spp"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("never by its own paths"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("independent of the\n    gradient's renders (use 1)"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "run" / "images" / "front_0.png"));
+}
+
 // The real thing: SIGINT to the vktg process while it optimises. It writes a checkpoint, exits with
 // 128 + 2, leaves no temporary file, and --resume finishes the run like an uninterrupted one.
 TEST(OptimizeCli, CtrlCCheckpointsAndResumeFinishesTheRun) {
