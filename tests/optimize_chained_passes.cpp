@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include "host/gradient.h"
+#include "opt/loss.h"
 #include "support/render_test.h"
 #include "support/room_scene.h"
 #include "support/scoped_env.h"
@@ -43,11 +44,10 @@ ImageSet zeroImage(const ImageSet& like) {
   return z;
 }
 
-// d/dI of sum (I - T)^2 with T = 0.
+// The adjoint image of the L2 loss against T = 0 (opt/loss.h).
 ImageSet lossAdjoint(const ImageSet& image) {
-  ImageSet a = image;
-  for (ImageLayer& l : a.layers)
-    for (float& p : l.pixels) p *= 2.0f;
+  ImageSet a;
+  imageLoss(LossSpec{}, image, zeroImage(image), 1.0, &a);
   return a;
 }
 
@@ -85,17 +85,14 @@ TEST(GradAdjointChained, AnInteriorPassRendersThePlainRendersImage) {
   chain.passes = 1;
   chain.imageSpp = 0;  // the pass's own images are all there is
   chain.adjointOf = [](size_t, const ImageSet& image) { return lossAdjoint(image); };
-  chain.seedOf = [](size_t, uint32_t) { return 0u; };
+  chain.seedOf = [&](size_t view, uint32_t) { return seeds[view]; };
   for (uint32_t seed : seeds) {
     plain.push_back(f.render(seed, 4).mean);
     adjoints.push_back(lossAdjoint(plain.back()));
     chain.images.push_back(zeroImage(plain.back()));
   }
   std::vector<AdjointView> views;
-  for (size_t v = 0; v < seeds.size(); ++v) {
-    views.push_back({RenderSetup::of(f.scene), {}, &adjoints[v]});
-    views.back().setup.settings.seed = seeds[v];
-  }
+  for (size_t v = 0; v < seeds.size(); ++v) views.push_back({RenderSetup::of(f.scene), {}, &adjoints[v]});
   ASSERT_EQ(viewGroups(views, true).size(), 1u);
   AdjointState state;
   const LossGradient g = lossGradient(test::testRenderer(), f.device, views, interiorOnly(), state, &chain);
@@ -187,11 +184,13 @@ Estimate gradients(Fixture& f, uint32_t passes, bool ownImage, uint32_t seeds) {
     chain.images = {image};
     chain.imageSpp = 1;
     chain.seedOf = [&](size_t, uint32_t pass) { return base + 2 + pass; };
-    uint32_t nextPass = 1;
+    // Interior passes only: an attempt asks for the adjoints of passes 1 … passes - 1, in order.
+    uint32_t calls = 0;
     chain.adjointOf = [&](size_t, const ImageSet& soFar) {
       if (!ownImage) return lossAdjoint(soFar);
       // The image so far with the next pass's own paths (rendered alone: the same samples) merged in.
-      const ImageSet own = f.render(chain.seedOf(0, nextPass++), 1).mean;
+      const uint32_t pass = 1 + calls++ % (passes - 1);
+      const ImageSet own = f.render(chain.seedOf(0, pass), 1).mean;
       ImageSet merged = soFar;
       for (size_t l = 0; l < merged.layers.size(); ++l)
         for (size_t i = 0; i < merged.layers[l].pixels.size(); ++i)

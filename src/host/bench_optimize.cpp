@@ -12,6 +12,7 @@
 #include "host/gradient.h"
 #include "host/renderer.h"
 #include "host/term_pilot.h"
+#include "opt/loss.h"
 #include "opt/plot.h"
 #include "scene/primitives.h"
 #include "vktg/image_io.h"
@@ -66,35 +67,35 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The adjoint image of an L2 loss, 2 (I(θ) - T), against a target T rendered with the heights moved
-// by up to 3 cm in a smooth pattern: the gradient the terms add up to is a loss's, so the term
-// pilot weighs their variances as an optimisation would. Both images at 4x the render's samples;
-// the scene is left at θ. `target` receives T.
-ImageSet lossAdjoint(Renderer& renderer, DeviceScene& device, const RenderSetup& setup, const RenderOptions& options,
-                     const std::vector<double>& theta, ImageSet& target) {
+// The images a loss is formed from: I(θ), and a target T rendered with the heights moved by up to
+// 3 cm in a smooth pattern, so that the gradient the terms add up to is a loss's and the term pilot
+// weighs their variances as an optimisation would. Both at 4x the render's samples; the scene is
+// left at θ.
+struct LossImages {
+  ImageSet atTheta, target;
+};
+
+LossImages lossImages(Renderer& renderer, DeviceScene& device, const RenderSetup& setup, const RenderOptions& options,
+                      const std::vector<double>& theta) {
   RenderSetup fine = setup;
   fine.settings.spp *= 4;
   fine.settings.seed = 11;
-  ImageSet adjoint = renderer.render(device, fine, options).mean;
+  LossImages images;
+  images.atTheta = renderer.render(device, fine, options).mean;
   std::vector<double> moved(theta.size());
   for (size_t k = 0; k < moved.size(); ++k) moved[k] = theta[k] + 0.03 * std::sin(0.37 * double(k));
   device.update(moved, true);
   fine.settings.seed = 12;
-  target = renderer.render(device, fine, options).mean;
+  images.target = renderer.render(device, fine, options).mean;
   device.update(theta, true);
-  for (size_t l = 0; l < adjoint.layers.size(); ++l)
-    for (size_t i = 0; i < adjoint.layers[l].pixels.size(); ++i)
-      adjoint.layers[l].pixels[i] = 2.0f * (adjoint.layers[l].pixels[i] - target.layers[l].pixels[i]);
-  return adjoint;
+  return images;
 }
 
-// 2 (I - T): the adjoint image of the L2 loss against T.
+// The adjoint image of the L2 loss of `image` against `target` (opt/loss.h).
 ImageSet l2Adjoint(const ImageSet& image, const ImageSet& target) {
-  ImageSet a = image;
-  for (size_t l = 0; l < a.layers.size(); ++l)
-    for (size_t i = 0; i < a.layers[l].pixels.size(); ++i)
-      a.layers[l].pixels[i] = 2.0f * (image.layers[l].pixels[i] - target.layers[l].pixels[i]);
-  return a;
+  ImageSet adjoint;
+  imageLoss(LossSpec{}, image, target, 1.0, &adjoint);
+  return adjoint;
 }
 
 // The variance of an iteration's whole gradient of the L2 loss against `target` (all terms at `g`'s
@@ -166,12 +167,13 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     RenderSetup setup = RenderSetup::of(scene);
     RenderOptions renderOptions;
     renderOptions.memoryBudget = options.memoryBudget;
-    ImageSet target;
-    const ImageSet adjoint = lossAdjoint(renderer, device, setup, renderOptions, theta, target);
+    const LossImages loss = lossImages(renderer, device, setup, renderOptions, theta);
+    const ImageSet& target = loss.target;
+    const ImageSet adjoint = l2Adjoint(loss.atTheta, target);
     const std::vector<AdjointView> views = {{setup, {}, &adjoint}};
     // The chained iteration: its render at spp / passes, then the gradient whose later interior
-    // passes weight by 2 (I - T) of the images so far (the first by the bench's fixed adjoint image,
-    // as the unchained gradient is: the same work).
+    // passes weight by the L2 adjoint of the images so far (the first by the bench's fixed adjoint
+    // image, as the unchained gradient is: the same work).
     const uint32_t passes = options.interiorPasses;
     const bool chained = passes > 1 && spp % passes == 0;
     RenderSetup chainedSetup = setup;
@@ -290,12 +292,8 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
       g.pathLength = options.pathLength;
       withPilot(g, variants[std::size(variants) - 1]);
       row.chainedVarianceRatio = chainedVarianceRatio(renderer, device, setup, renderOptions, passes, target, g);
-      // Where the optimisation ends: the target is the image at θ itself (the render lossAdjoint made).
-      ImageSet atTheta = target;
-      for (size_t l = 0; l < atTheta.layers.size(); ++l)
-        for (size_t i = 0; i < atTheta.layers[l].pixels.size(); ++i)
-          atTheta.layers[l].pixels[i] += 0.5f * adjoint.layers[l].pixels[i];
-      row.chainedVarianceRatioAtTarget = chainedVarianceRatio(renderer, device, setup, renderOptions, passes, atTheta, g);
+      // Where the optimisation ends: the target is the image at θ itself.
+      row.chainedVarianceRatioAtTarget = chainedVarianceRatio(renderer, device, setup, renderOptions, passes, loss.atTheta, g);
     }
 
     char line[512];

@@ -355,11 +355,13 @@ const Buffer* writeAdjointImages(VulkanContext& context, AdjointState& state, si
 
 // image := (image × weight + added × addedWeight) / (weight + addedWeight), pixel by pixel.
 void mergeImage(ImageSet& image, double weight, const ImageSet& added, double addedWeight) {
+  if (added.layers.size() != image.layers.size()) throw Error("internal: a chained pass's image has other layers");
   for (size_t l = 0; l < image.layers.size(); ++l) {
     std::vector<float>& pixels = image.layers[l].pixels;
-    const std::vector<float>& more = added.layers.at(l).pixels;
+    const std::vector<float>& more = added.layers[l].pixels;
+    if (more.size() != pixels.size()) throw Error("internal: a chained pass's image has another size");
     for (size_t i = 0; i < pixels.size(); ++i)
-      pixels[i] = float((double(pixels[i]) * weight + double(more.at(i)) * addedWeight) / (weight + addedWeight));
+      pixels[i] = float((double(pixels[i]) * weight + double(more[i]) * addedWeight) / (weight + addedWeight));
   }
 }
 
@@ -379,8 +381,8 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
   std::vector<bool> sharePaths;
   for (const AdjointView& view : views) {
     plans.push_back(planGradient(scene.scene(), view.setup, effects, options));
-    // Chained interior passes trace the interior term alone.
-    sharePaths.push_back(chained == 1 && sharesPaths(plans.back(), options, view.setup.settings.spp));
+    // Chained interior passes trace the interior term alone (they render its image).
+    sharePaths.push_back(!chain && sharesPaths(plans.back(), options, view.setup.settings.spp));
     if (sharePaths.back())
       plans.back().reasons.push_back(std::string(kSharedPathsReason) + " of the paths (same spp)");
     if (chained > 1 && plans.back().interior) {
@@ -448,36 +450,39 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     std::vector<ImageSet> adjoints(views.size());
     std::vector<const ImageSet*> current = given;
     std::vector<const Buffer*> staged(groups.size(), nullptr);
+    std::vector<AdjointView> chainViews;  // a chain pass's views: its samples and random numbers
     uint32_t written = ~0u;  // the stage whose adjoint images the device holds
     // The first render's commands clear the accumulators and the last one's copy them for the host:
     // a gradient waits on the device once per render and batch, no more.
     for (size_t k = 0; k < renders.size(); ++k) {
       const auto& [g, planned, stage] = renders[k];
       TermPass pass = planned;
-      if (written != stage && (written == ~0u || chained > 1)) {
+      if (written != stage && (written == ~0u || chain)) {
         // A chain's later stages weight by the adjoint of every image so far; its interior passes
-        // each take 1 / chained of the gradient.
-        if (chained > 1 && stage > 0) {
+        // each take 1 / chained of the gradient, with samples and random numbers of their own.
+        if (chain && stage > 0) {
           for (size_t v = 0; v < views.size(); ++v) adjoints[v] = chain->adjointOf(v, images[v]);
           for (size_t v = 0; v < views.size(); ++v) current[v] = &adjoints[v];
         }
         const float factor = stage < chained ? 1.0f / float(chained) : 1.0f;
         for (size_t h = 0; h < groups.size(); ++h) staged[h] = writeAdjointImages(context, state, h, groups[h], current, factor);
+        if (chain && stage < chained) {
+          chainViews = views;
+          for (size_t v = 0; v < views.size(); ++v) {
+            chainViews[v].setup.settings.spp /= chained;
+            chainViews[v].setup.settings.seed = chain->seedOf(v, stage);
+          }
+        }
         written = stage;
       }
+      const bool chainPass = chain && stage < chained;
+      const std::vector<AdjointView>& stageViews = chainPass ? chainViews : views;
       AdjointTarget target{&state.images[g], state.accumulator.get(), scale, targets, k == 0, k + 1 == renders.size(),
-                           std::exchange(staged[g], nullptr)};
-      target.renderImage = chain && stage < chained;
-      std::vector<AdjointView> passViews = views;
-      if (stage < chained && chained > 1)
-        for (size_t v : groups[g]) {
-          passViews[v].setup.settings.spp /= chained;
-          passViews[v].setup.settings.seed = chain->seedOf(v, stage);
-        }
-      RenderSetup termSetup = passViews[groups[g].front()].setup;
+                           std::exchange(staged[g], nullptr), chainPass};
+      RenderSetup termSetup = stageViews[groups[g].front()].setup;
       pass.apply(termSetup);
       pass.options.adjoint = &target;
-      const RenderResult r = renderGroup(renderer, scene, passViews, groups[g], termSetup, pass.options);
+      const RenderResult r = renderGroup(renderer, scene, stageViews, groups[g], termSetup, pass.options);
       addStats(stats, r.stats);
       for (const auto& [name, ms] : r.passMilliseconds) result.passMilliseconds[std::string(termName(pass.term)) + "/" + name] += ms;
       if (target.renderImage) {

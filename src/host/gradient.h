@@ -155,7 +155,7 @@ struct AdjointChain {
   std::vector<ImageSet> images;  // per view: the image rendered before the gradient (the views' adjoints are its)
   uint32_t imageSpp = 0;         // its samples per pixel
   std::function<ImageSet(size_t view, const ImageSet& image)> adjointOf;  // d loss / d I of a view's image
-  std::function<uint32_t(size_t view, uint32_t pass)> seedOf;             // pass 0: anything but the images' seeds
+  std::function<uint32_t(size_t view, uint32_t pass)> seedOf;             // none the images' own
 };
 
 // d loss / d θ = sum over views and pixels of adjoint × d image / d θ, by adjoint renders of every
