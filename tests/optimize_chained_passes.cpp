@@ -118,8 +118,7 @@ TEST(GradAdjointChained, AnInteriorPassRendersThePlainRendersImage) {
     for (size_t l = 0; l < plain[v].layers.size(); ++l)
       for (size_t i = 0; i < plain[v].layers[l].pixels.size(); ++i) {
         const double chained = g.images[v].layers[l].pixels[i], expected = plain[v].layers[l].pixels[i];
-        const double ulps = std::abs(chained - expected) / (u * std::abs(expected));
-        if (chained != expected) worstUlps = std::max(worstUlps, ulps);
+        if (chained != expected) worstUlps = std::max(worstUlps, std::abs(chained - expected) / (u * std::abs(expected)));
         EXPECT_LE(std::abs(chained - expected), kContractionUlps * u * std::abs(expected))
             << "view " << v << " layer " << l << " pixel " << i;
         sum += expected;
