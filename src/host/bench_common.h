@@ -1,4 +1,5 @@
-// Pieces the benchmarks share: gates by name, medians, relMSE, peak memory, and the plot script.
+// Pieces the benchmarks share: gates by name, medians, variances across runs, relMSE, peak memory, and
+// the plot script.
 #pragma once
 #include <filesystem>
 #include <cstdint>
@@ -37,6 +38,20 @@ uint32_t firstLadderSpp(double baseSpp, const BenchOptions& options, const std::
 Gate gaussianGate(double mu, double sigma);
 Gate boxGate(double a, double b);
 double median(std::vector<double> values);
+// Each element's sample variance across `runs` (at least two, all of one length): the sum of squared
+// deviations from the element's mean over n - 1.
+template <class T>
+std::vector<double> varianceAcrossRuns(const std::vector<std::vector<T>>& runs) {
+  std::vector<double> variance(runs.front().size());
+  for (size_t i = 0; i < variance.size(); ++i) {
+    double mean = 0, squares = 0;
+    for (const auto& run : runs) mean += run[i];
+    mean /= double(runs.size());
+    for (const auto& run : runs) squares += (run[i] - mean) * (run[i] - mean);
+    variance[i] = squares / double(runs.size() - 1);
+  }
+  return variance;
+}
 // relMSE = mean over pixels of (x - r)^2 / (r^2 + eps), eps = 1e-2 mean(r)^2 (0 for one pixel):
 // the usual definition, made scale-free so dark pixels do not dominate.
 double relMse(const std::vector<float>& x, const std::vector<float>& reference);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
+#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -126,14 +127,8 @@ double chainedVarianceRatio(Renderer& renderer, DeviceScene& device, const Rende
       chain.seedOf = [&](size_t, uint32_t pass) { return view.setup.settings.seed + 1 + pass; };
       runs.push_back(lossGradient(renderer, device, {view}, g, state, chained ? &chain : nullptr).theta);
     }
-    double total = 0;
-    for (size_t k = 0; k < runs.front().size(); ++k) {
-      double mean = 0, squares = 0;
-      for (const auto& r : runs) mean += r[k] / double(runs.size());
-      for (const auto& r : runs) squares += (r[k] - mean) * (r[k] - mean);
-      total += squares / double(runs.size() - 1);
-    }
-    return total;
+    const std::vector<double> variance = varianceAcrossRuns(runs);
+    return std::accumulate(variance.begin(), variance.end(), 0.0);
   };
   const double plain = summedVariance(false);
   return summedVariance(true) / plain;

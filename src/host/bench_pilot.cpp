@@ -94,14 +94,8 @@ BenchPilotReport benchPilot(VulkanContext& context, const BenchOptions& options)
     std::vector<double> efficiency(3);
     for (uint32_t k = 0; k < 3; ++k) {
       // The across-seed variance of each pixel: one render's squared error, its estimator being unbiased.
-      std::vector<float> variance(pixels, 0.0f);
-      for (size_t i = 0; i < pixels; ++i) {
-        double mean = 0, squares = 0;
-        for (const auto& image : images[k]) mean += image[i];
-        mean /= options.runs;
-        for (const auto& image : images[k]) squares += (image[i] - mean) * (image[i] - mean);
-        variance[i] = float(squares / (options.runs - 1));
-      }
+      const std::vector<double> across = varianceAcrossRuns(images[k]);
+      const std::vector<float> variance(across.begin(), across.end());
       BenchPilotRow row{c.sceneName, c.gateName, neeModeName(kEstimators[k]), c.scene.render.spp};
       const PilotEstimate& predicted = decision.estimates[k];
       row.predictedSeconds = predicted.seconds;
