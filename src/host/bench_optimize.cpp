@@ -11,6 +11,7 @@
 
 #include "host/device_scene.h"
 #include "host/gradient.h"
+#include "host/planner.h"
 #include "host/renderer.h"
 #include "host/term_pilot.h"
 #include "opt/loss.h"
@@ -193,12 +194,12 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
                                 {"all terms apart", &row.allApartSeconds, true, true, true, false},
                                 {"all terms, pilot's samples", &row.pilotAllSeconds, true, true, true, true, true},
                                 {"all terms, pilot's samples, chained", &row.pilotChainedSeconds, true, true, true, true, true, true}};
-    auto sayProfile = [&](const std::string& what, const std::map<std::string, double>& passes) {
+    auto sayProfile = [&](const std::string& what, const std::map<std::string, double>& passes, const std::string& more = "") {
       if (!options.profile) return;
       double total = 0;
       for (const auto& [pass, ms] : passes) total += ms;
       std::ostringstream text;
-      text << "  " << what << ": " << std::fixed << std::setprecision(1) << total << " ms on the device";
+      text << "  " << what << ": " << std::fixed << std::setprecision(1) << total << " ms on the device" << more;
       for (const auto& [pass, ms] : passes) text << "\n    " << std::setw(9) << ms << " ms  " << pass;
       options.say(text.str());
     };
@@ -252,7 +253,13 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
       start = std::chrono::steady_clock::now();
       const RenderResult primal = renderer.render(device, setup, renderOptions);
       render.push_back(secondsSince(start));
-      if (run + 1 == options.runs) sayProfile("render", primal.passMilliseconds);
+      // Beside the passes' device time: the render's wall clock, and how much of it its batches took
+      // (recording, submitting and waiting for their commands), the rest being the host's set-up
+      // and read-back.
+      if (run + 1 == options.runs)
+        sayProfile("render", primal.passMilliseconds,
+                   formatReason(", %.1f ms of wall clock, %.1f ms of it in its batches", 1e3 * render.back(),
+                                1e3 * primal.stats.seconds));
       if (chained) {
         start = std::chrono::steady_clock::now();
         chain.images = {renderer.render(device, chainedSetup, renderOptions).mean};
