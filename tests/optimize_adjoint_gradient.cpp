@@ -260,6 +260,38 @@ TEST(GradAdjoint, EdgeStrategiesApartOrTogetherGiveTheSameGradient) {
   }
 }
 
+// A GPU sums the adds of a subgroup's lanes to a shared accumulator before one atomic, a CPU device
+// adds each (VKTG_SCATTER forces either): the sums are exact integers modulo 2^64, so every term's
+// gradient is the same bit for bit. Every kind of accumulator is hit by many lanes here (the gate's
+// and the materials' one slot each, the block's eight vertices), which lavapipe's subgroups of 8
+// lanes aggregate; a lost or doubled sum changes the result.
+TEST(GradAdjoint, SubgroupSumsOrSingleAddsGiveTheSameGradient) {
+  const Scene scene = test::roomScene();
+  const std::vector<std::string> names = {"block_x", "spin", "bulb_y", "bulb_power", "floor_albedo", "gloss", "lamp_power", "t0"};
+  const ParameterModel model = modelOf(scene, names);
+  std::vector<double> theta(model.size(), 0.0);
+  const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
+  const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
+  auto gradientUnder = [&](const char* scatter, AdjointState& state) {
+    test::ScopedEnv env("VKTG_SCATTER", scatter);
+    Renderer renderer(test::testRenderer().context());
+    DeviceScene deviceScene(renderer.context(), model, theta, theta);
+    return lossGradient(renderer, deviceScene, {view}, options(16, 16), state);
+  };
+  AdjointState settled;
+  gradientUnder("direct", settled);
+  AdjointState one, summed;
+  one.scale = summed.scale = settled.scale;
+  const LossGradient direct = gradientUnder("direct", one);
+  const LossGradient aggregated = gradientUnder("aggregate", summed);
+  ASSERT_EQ(direct.attempts, 1u);
+  ASSERT_EQ(aggregated.attempts, 1u);
+  for (size_t k = 0; k < names.size(); ++k) {
+    EXPECT_EQ(aggregated.theta[k], direct.theta[k]) << names[k];
+    EXPECT_NE(direct.theta[k], 0.0) << names[k];
+  }
+}
+
 // Point lights follow the emitting triangles in the light table. When a displacement collapses one
 // of the lamp's two triangles (vertex 0 onto vertex 1: its area is exactly 0), the table loses an
 // entry and the bulb moves up one; an accumulator laid out before must still receive the bulb's

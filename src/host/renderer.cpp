@@ -406,6 +406,11 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   // VKTG_SHADOW_SLOTS=filled|all overrides the device's choice (tests): the same bits either way.
   spec[gpu::kSpecFilledSlotsOnly] = forcedChoice("VKTG_SHADOW_SLOTS", "filled", "all").value_or(context.isCpuDevice()) ? 1u : 0u;
   spec[gpu::kSpecEdgeStrategy] = gpu::kEdgeStrategyCount;
+  // A GPU sums a subgroup's adds to a shared accumulator before its atomic (lib/adjoint.glsl); a CPU
+  // device, whose atomics do not queue that way, adds each. VKTG_SCATTER=aggregate|direct
+  // overrides (tests): the same bits either way. (Read by every render: a bad value is an error.)
+  const bool aggregateScatter = forcedChoice("VKTG_SCATTER", "aggregate", "direct").value_or(!context.isCpuDevice());
+  spec[gpu::kSpecScatterAggregate] = adjoint && aggregateScatter ? 1u : 0u;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";

@@ -104,7 +104,9 @@ DeviceReport describeDevice(VkPhysicalDevice device, uint32_t index) {
   r.maxPerStageStorageBuffers = limits.maxPerStageDescriptorStorageBuffers;
   r.timestampPeriodNs = limits.timestampPeriod;
   r.floatAtomicAdd = atomicExt && atomics.shaderBufferFloat32AtomicAdd;
-  r.subgroupArithmetic = (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT) != 0;
+  constexpr VkSubgroupFeatureFlags kSubgroupOps = VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+  r.subgroupArithmetic = (subgroup.supportedOperations & kSubgroupOps) == kSubgroupOps &&
+                         (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0;
   r.int64Atomics = features.features.shaderInt64 && vulkan12.shaderBufferInt64Atomics;
   VkPhysicalDeviceMemoryProperties memory;
   vkGetPhysicalDeviceMemoryProperties(device, &memory);
@@ -116,6 +118,8 @@ DeviceReport describeDevice(VkPhysicalDevice device, uint32_t index) {
   if (!r.floatAtomicAdd) missing.push_back("VK_EXT_shader_atomic_float (shaderBufferFloat32AtomicAdd)");
   // The adjoint passes' gradient accumulators are 64-bit integers (host/adjoint.h).
   if (!r.int64Atomics) missing.push_back("64-bit integer atomics (shaderInt64, shaderBufferInt64Atomics)");
+  // ... which a subgroup's lanes that add to the same one may first sum (shaders/lib/adjoint.glsl).
+  if (!r.subgroupArithmetic) missing.push_back("subgroup ballot and arithmetic in compute shaders");
   if (computeQueueFamily(device) < 0) missing.push_back("a compute queue with timestamps");
   if (limits.maxPerStageDescriptorStorageBuffers < gpu::kBindingCount) missing.push_back("enough storage-buffer bindings");
   for (const auto& m : missing) r.missing += (r.missing.empty() ? "" : ", ") + m;

@@ -181,7 +181,8 @@ VKTG_CONST(uint, kSpecWideBvh, 14);      // 1: closest- and any-hit traversal ov
 VKTG_CONST(uint, kSpecMultiView, 15);    // 1: several views in one render (FrameUniforms.viewInfo, lib/view.glsl)
 VKTG_CONST(uint, kSpecFilledSlotsOnly, 16);  // 1: trace_shadow_rays loops over a path's filled slots only (CPU devices)
 VKTG_CONST(uint, kSpecEdgeStrategy, 17);     // sample_edges: the one strategy this pipeline runs, or kEdgeStrategyCount: all
-VKTG_CONST(uint, kSpecCount, 18);
+VKTG_CONST(uint, kSpecScatterAggregate, 18);  // 1: adjoint scatters sum a subgroup's adds to one accumulator first (GPUs)
+VKTG_CONST(uint, kSpecCount, 19);
 
 // sample_edges' strategies (its header): the camera's segment through the edge, a light's, a uniform direction.
 VKTG_CONST(uint, kEdgeStrategyPrimary, 0);
