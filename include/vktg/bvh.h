@@ -66,6 +66,18 @@ double bvhSahCost(const Bvh& bvh, float traversalCost = 1.0f);
 // half a second on the host.
 double refitSahCost(const Bvh& bvh, std::span<const BvhTriangle> triangles, float traversalCost = 1.0f);
 
+// The boxes refitSahCost computes, kept by a caller that checks a large tree often: a tree of 2M
+// triangles refits into about 100 MB, and fresh pages for it (and for a copy of the triangles)
+// took as long as the refit itself.
+struct BvhRefitScratch {
+  std::vector<glm::vec3> corners;  // per node: the lower, then the upper corner of its box
+};
+
+// The same, bit for bit, of the triangles triangleVerts[i] = (vertices[x], vertices[y],
+// vertices[z]) in leaf order, without a copy of them.
+double refitSahCost(const Bvh& bvh, std::span<const glm::vec3> vertices, std::span<const glm::uvec4> triangleVerts,
+                    BvhRefitScratch& scratch, float traversalCost = 1.0f);
+
 struct RayHit {
   float t = 0;
   float u = 0, v = 0;       // barycentrics: p = (1-u-v) p0 + u p1 + v p2

@@ -87,6 +87,8 @@ class DeviceScene {
   std::vector<uint32_t> m_emitterTriangles;
   std::vector<bool> m_movingShapes;
   double m_buildCost = 0, m_lastSahRatio = 1;
+  std::vector<glm::vec3> m_checkVertices;  // the quality check's vertices at θ and refit boxes
+  BvhRefitScratch m_checkScratch;
   uint32_t m_rebuilds = 0;
 
   struct UpdateResources;
