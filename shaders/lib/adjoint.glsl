@@ -33,8 +33,9 @@ bool differentiates(uint targets) { return (kSpecAdjointTargetsValue & targets) 
 uint scatterNonFinite = 0u, scatterOverflows = 0u;
 
 // With few parameters, many paths add to the same accumulators (a 121-height field's vertices, the
-// gate's slot): on a GPU their atomics queue on a few addresses, and the adjoint shadow pass took
-// 7 times as long as the render's. So there (kSpecScatterAggregate) the lanes of a subgroup that add
+// gate's slot): on a GPU their atomics queue on a few addresses (on an H100 the interior term's
+// shadow pass took 7 times as long as the render's for as many rays; docs/benchmarks.md, sixth
+// sitting). So there (kSpecScatterAggregate) the lanes of a subgroup that add
 // to the same slot first sum their values and one of them adds the sum, while at least
 // kAggregateMinLanes lanes share a slot; the rest add their own. The sum is taken exactly, in three
 // 32-bit parts of at most 22 bits (a subgroup of up to 2^10 lanes cannot carry out of a part), and
