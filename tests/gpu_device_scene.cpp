@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "host/device_scene.h"
+#include "scene/primitives.h"
 #include "support/gpu_context.h"
 #include "support/render_test.h"
 #include "vktg/bvh.h"
@@ -195,6 +196,61 @@ TEST(DeviceScene, MovedSceneRendersLikeAFreshOne) {
   DeviceScene device(testContext(), model, zero, zero);
   device.update(theta, false);
   expectRendersLikeAFreshScene(device, model.sceneAt(theta));
+}
+
+// An n x n heightfield of bumps with a displacement parameter per vertex, as an optimisation moves it.
+Scene bumpyField(uint32_t n) {
+  Scene scene = movingScene();
+  std::vector<float> heights(size_t(n) * n);
+  for (uint32_t i = 0; i < heights.size(); ++i) heights[i] = 0.1f * std::sin(0.37f * float(i));
+  TriangleMesh mesh = makeHeightfield(n, n, 2.0f, 2.0f, heights);
+  scene.shapes[0].positions = std::move(mesh.positions);
+  scene.shapes[0].triangles = std::move(mesh.triangles);
+  scene.shapes[0].grid = {n, n};
+  scene.parameters.clear();
+  for (uint32_t k = 0; k < n * n; ++k) {
+    Parameter p;
+    p.name = "h";
+    p.name += std::to_string(k);
+    p.kind = ParameterKind::Displace;
+    p.target = scene.shapes[0].name;
+    p.axis = glm::vec3(0, 1, 0);
+    p.vertices = {k};
+    scene.parameters.push_back(std::move(p));
+  }
+  return scene;
+}
+
+// The quality check sums the refit tree's SAH cost on the device (bvh_sah_cost: a partial sum per
+// workgroup of nodes, added on the host): the host's sum over the same refit tree in double
+// (refitSahCost) up to float rounding, for a tree of one workgroup of nodes and one of many, as
+// built and moved. A lost partial sum, a child's cost or box taken wrongly, moves it by far more.
+TEST(DeviceScene, QualityCheckSumsTheRefitTreesSahCost) {
+  for (uint32_t n : {5u, 60u}) {
+    SCOPED_TRACE("heightfield " + std::to_string(n) + " x " + std::to_string(n));
+    const Scene scene = bumpyField(n);
+    ParameterModel model(scene, allParameters(scene));
+    const std::vector<double> zero(model.size(), 0.0);
+    std::vector<double> theta(model.size());
+    for (size_t k = 0; k < theta.size(); ++k) theta[k] = 0.3 * std::sin(1.7 * double(k));
+    DeviceScene device(testContext(), model, zero, zero);
+    // The tree as built and its leaf order (a check that finds it degraded rebuilds it).
+    const Bvh built = device.prepared().bvh;
+    const std::vector<glm::uvec4> leafOrder = device.prepared().triangleVerts;
+    ASSERT_GT(built.nodes.size(), n > 5 ? 10u * gpu::kWorkgroupSize : 1u);
+    device.update(zero, true);
+    EXPECT_NEAR(device.lastSahRatio(), 1.0, 1e-5);
+    device.update(theta, true);
+    const Scene moved = model.sceneAt(theta);
+    std::vector<glm::vec3> vertices;
+    for (const Shape& shape : moved.shapes) vertices.insert(vertices.end(), shape.positions.begin(), shape.positions.end());
+    std::vector<BvhTriangle> soup;
+    for (const glm::uvec4& t : leafOrder) soup.push_back({vertices[t.x], vertices[t.y], vertices[t.z]});
+    const double hostRatio = refitSahCost(built, soup) / bvhSahCost(built);
+    std::printf("  refit / built SAH cost: device %.7f, host %.7f\n", device.lastSahRatio(), hostRatio);
+    EXPECT_GT(hostRatio, 1.01);  // the motion changed the tree's cost
+    EXPECT_NEAR(device.lastSahRatio(), hostRatio, 1e-5 * hostRatio);
+  }
 }
 
 TEST(DeviceScene, DegradedTreeIsRebuiltReproducibly) {

@@ -357,13 +357,10 @@ TEST(BvhBuild, HundredThousandTrianglesBuildSound) {
 
 // The SAH cost of a moved scene's tree, computed without a refit copy, is that of the refit copy to
 // the last bit (an optimisation rebuilds when it passes a threshold, so a resumed run must see the
-// same value). Small and large soups, a lone leaf, and motion large enough to change the cost; the
-// triangles given as a soup and as indices into vertices (stored in reverse, so an index read
-// wrongly reads another triangle's vertex), with scratch memory reused from tree to tree.
+// same value). Small and large soups, a lone leaf, and motion large enough to change the cost.
 TEST(BvhRefit, SahCostWithoutACopyEqualsTheRefitTreesCost) {
   std::mt19937 rng(29);
-  BvhRefitScratch scratch;
-  for (size_t n : {40, 1, 5000, 3}) {
+  for (size_t n : {1, 3, 40, 5000}) {
     SCOPED_TRACE("triangles: " + std::to_string(n));
     const Soup soup = randomSoup(rng, n, 10.0f, 0.5f);
     const Bvh bvh = buildBvh(soup);
@@ -380,17 +377,6 @@ TEST(BvhRefit, SahCostWithoutACopyEqualsTheRefitTreesCost) {
     EXPECT_EQ(refitSahCost(bvh, moved, 0.3f), bvhSahCost(refit, 0.3f));
     if (n > 1) EXPECT_NE(refitSahCost(bvh, moved), bvhSahCost(bvh));
     EXPECT_EQ(refitSahCost(bvh, leafOrder(soup, bvh)), bvhSahCost(bvh));
-    std::vector<glm::vec3> vertices(3 * n);
-    std::vector<glm::uvec4> triangleVerts(n);
-    for (size_t i = 0; i < n; ++i) {
-      const uint32_t last = uint32_t(3 * n - 1 - 3 * i);
-      vertices[last] = moved[i].p0;
-      vertices[last - 1] = moved[i].p1;
-      vertices[last - 2] = moved[i].p2;
-      triangleVerts[i] = glm::uvec4(last, last - 1, last - 2, 0u);
-    }
-    EXPECT_EQ(refitSahCost(bvh, vertices, triangleVerts, scratch), bvhSahCost(refit));
-    EXPECT_EQ(refitSahCost(bvh, vertices, triangleVerts, scratch, 0.3f), bvhSahCost(refit, 0.3f));
   }
 }
 

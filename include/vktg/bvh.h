@@ -61,22 +61,10 @@ void refitBvh(Bvh& bvh, std::span<const BvhTriangle> triangles);
 double bvhSahCost(const Bvh& bvh, float traversalCost = 1.0f);
 
 // bvhSahCost of the tree refit to `triangles` (leaf order), bit for bit, without changing or
-// copying it: one pass over the nodes for their boxes, one for the sum. How an optimisation checks
-// its moving scene's tree (src/host/device_scene.cpp): a refit copy of a tree of 2M triangles cost
-// half a second on the host.
+// copying it: one pass over the nodes for their boxes, one for the sum. The host twin of what an
+// optimisation's check of its moving scene's tree sums on the device (shaders/bvh_sah_cost.comp,
+// after refit_bvh), which tests hold to it.
 double refitSahCost(const Bvh& bvh, std::span<const BvhTriangle> triangles, float traversalCost = 1.0f);
-
-// The boxes refitSahCost computes, kept by a caller that checks a large tree often: a tree of 2M
-// triangles refits into about 100 MB, and fresh pages for it (and for a copy of the triangles)
-// took as long as the refit itself.
-struct BvhRefitScratch {
-  std::vector<glm::vec3> corners;  // per node: the lower, then the upper corner of its box
-};
-
-// The same, bit for bit, of the triangles triangleVerts[i] = (vertices[x], vertices[y],
-// vertices[z]) in leaf order, without a copy of them.
-double refitSahCost(const Bvh& bvh, std::span<const glm::vec3> vertices, std::span<const glm::uvec4> triangleVerts,
-                    BvhRefitScratch& scratch, float traversalCost = 1.0f);
 
 struct RayHit {
   float t = 0;

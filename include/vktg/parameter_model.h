@@ -56,9 +56,6 @@ class ParameterModel {
   void setScalars(Scene& scene, std::span<const double> theta) const;
   // The vertices of shape `shape` at θ, in double precision (the same motion as sceneAt).
   std::vector<glm::dvec3> shapePositions(std::span<const double> theta, uint32_t shape) const;
-  // The same positions appended to `out` as floats, exactly (every motion step rounds to float),
-  // for a caller that reuses the vector's memory.
-  void appendShapePositions(std::span<const double> theta, uint32_t shape, std::vector<glm::vec3>& out) const;
 
   // What the selected parameters touch. Known from construction: a gradient asks several times,
   // and a scan over 10^6 heights each time cost more than the gradient's device work.
@@ -90,7 +87,6 @@ class ParameterModel {
                                 std::span<const int64_t> fixed, double scale) const;
 
  private:
-  glm::dvec3 vertexAt(std::span<const double> theta, uint32_t shape, uint32_t vertex) const;
   Scene m_scene;
   std::vector<uint32_t> m_selected;
   std::vector<uint32_t> m_firstVertex;        // per shape: its first vertex in the concatenation

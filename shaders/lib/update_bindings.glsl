@@ -1,6 +1,7 @@
 // Descriptor declarations of the scene-update layout (include/vktg/gpu/shared.h, kUpdateBinding*):
 // the scene part of set 0 (lib/scene_bindings.glsl) plus what moves it: base positions, per-vertex
-// op lists, the parameter ops and θ, the BVH refit order, the edge list and the 4-wide tree.
+// op lists, the parameter ops and θ, the BVH refit order, the edge list, the 4-wide tree and the
+// refit tree's SAH partial sums.
 #ifndef VKTG_UPDATE_BINDINGS_GLSL
 #define VKTG_UPDATE_BINDINGS_GLSL
 #include "lib/scene_bindings.glsl"
@@ -14,6 +15,7 @@ layout(std430, set = 0, binding = kUpdateBindingRefitOrder) readonly buffer Refi
 layout(std430, set = 0, binding = kUpdateBindingEdges) buffer EdgesBlock { GpuEdge edges[]; };
 layout(std430, set = 0, binding = kUpdateBindingEdgeFaces) readonly buffer EdgeFacesBlock { uvec4 edgeFaces[]; };
 layout(std430, set = 0, binding = kUpdateBindingWideBvhNodes) buffer WideBvhNodesBlock { GpuWideBvhNode wideBvhNodes[]; };
+layout(std430, set = 0, binding = kUpdateBindingSahPartials) writeonly buffer SahPartialsBlock { float sahPartials[]; };
 
 void storeTriangle(uint i, GpuTriangle t) {
   if (kSpecSingleChunkValue != 0u) {

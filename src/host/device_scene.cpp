@@ -49,7 +49,7 @@ struct DeviceScene::UpdateResources {
     theta = Buffer(context, std::max<size_t>(16, model.size() * sizeof(float)), MemoryKind::Device, "update.theta");
   }
   PassPipelines pipelines;
-  Buffer dummy, frame, basePositions, vertexOps, opList, parameterOps, theta, refitOrder;
+  Buffer dummy, frame, basePositions, vertexOps, opList, parameterOps, theta, refitOrder, sahPartials;
   BvhRefitOrder levels;
 };
 
@@ -102,14 +102,12 @@ void DeviceScene::update(std::span<const double> theta, bool checkQuality) {
   if (m_model->movesVertices()) {
     std::vector<float> values(theta.begin(), theta.end());
     m_update->theta.upload(m_context, values.data(), values.size() * sizeof(float));
-    runUpdatePasses(true);
+    // The check: the refit tree's SAH cost, summed on the device right after the refit (the same
+    // bits on a given device for the same θ), against its cost when built. Only the vertices move:
+    // the whole scene at θ is made only to rebuild.
+    const double refitCost = runUpdatePasses(true, checkQuality);
     if (checkQuality) {
-      // The host's own refit of the same tree at θ (deterministic), against its cost when built.
-      // Only the vertices move: the whole scene at θ is made only to rebuild. The vertices and
-      // boxes keep their memory from one check to the next.
-      m_checkVertices.clear();
-      for (uint32_t s = 0; s < m_scene.shapes.size(); ++s) m_model->appendShapePositions(theta, s, m_checkVertices);
-      m_lastSahRatio = refitSahCost(m_prepared.bvh, m_checkVertices, m_prepared.triangleVerts, m_checkScratch) / m_buildCost;
+      m_lastSahRatio = refitCost / m_buildCost;
       if (m_lastSahRatio > kBvhRebuildRatio) {
         m_buildTheta = m_theta;
         Scene now = m_model->sceneAt(theta);
@@ -191,7 +189,7 @@ const Buffer& DeviceScene::edges(const std::vector<bool>& movingVertex, const st
   return m_edgeBuffer;
 }
 
-void DeviceScene::runUpdatePasses(bool moveGeometry) {
+double DeviceScene::runUpdatePasses(bool moveGeometry, bool measureSah) {
   UpdateResources& u = *m_update;
   gpu::FrameUniforms frame = sceneFrameUniforms(m_scene.camera, m_scene.render, m_prepared, *m_gpu);
   frame.edgeInfo.x = m_edgesBuilt ? m_edgeCount : 0u;
@@ -210,6 +208,15 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
     table.set(gpu::kUpdateBindingEdges, m_edgeBuffer);
     table.set(gpu::kUpdateBindingEdgeFaces, m_edgeFaces);
   }
+  // bvh_sah_cost's partial sums, one per workgroup of nodes, written where the host reads them.
+  const uint32_t nodes = uint32_t(m_prepared.bvh.nodes.size());
+  const bool sumSah = measureSah && moveGeometry && nodes > 1;
+  const uint32_t sahGroups = sumSah ? groupsFor(nodes, m_context, "BVH nodes") : 0u;
+  if (sumSah) {
+    const uint64_t bytes = uint64_t(sahGroups) * sizeof(float);
+    if (u.sahPartials.size() < bytes) u.sahPartials = Buffer(m_context, bytes, MemoryKind::Readback, "update.sahPartials");
+    table.set(gpu::kUpdateBindingSahPartials, u.sahPartials);
+  }
   DescriptorSet set(m_context, u.pipelines, table, u.dummy);
   SpecValues spec{};
   spec[gpu::kSpecSingleChunk] = m_gpu->singleChunk() ? 1u : 0u;
@@ -219,6 +226,7 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
   if (moveGeometry) passes = {{"move_vertices", spec}, {"update_triangles", spec}, {"refit_bvh", spec}};
   if (moveGeometry && m_gpu->wideBvh()) passes.push_back({"refit_wide_bvh", spec});
   if (m_edgesBuilt) passes.push_back({"update_edges", spec});
+  if (sumSah) passes.push_back({"bvh_sah_cost", spec});
   u.pipelines.prepare(passes);
   CommandBuffer cmdBuffer(m_context, "scene update");
   cmdBuffer.begin();
@@ -248,8 +256,21 @@ void DeviceScene::runUpdatePasses(bool moveGeometry) {
     }
   }
   if (m_edgesBuilt) dispatch("update_edges", groupsFor(m_edgeCount, m_context, "edges"), glm::uvec4(0));
+  if (sumSah) {
+    dispatch("bvh_sah_cost", sahGroups, glm::uvec4(0, 0, 0, nodes));
+    hostReadBarrier(cmd);
+  }
   cmdBuffer.end();
   m_context.submitAndWait(cmd);
+  if (!measureSah) return 0.0;
+  // A tree of one leaf costs its triangle count; otherwise the root's visit plus the shares, added
+  // in order.
+  if (!sumSah) return bvhSahCost(m_prepared.bvh);
+  std::vector<float> partials(sahGroups);
+  u.sahPartials.download(m_context, partials.data(), partials.size() * sizeof(float));
+  double cost = 1.0;
+  for (float p : partials) cost += p;
+  return cost;
 }
 
 }  // namespace vktg

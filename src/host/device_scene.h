@@ -19,8 +19,7 @@
 
 namespace vktg {
 
-// How often (in updates) an optimisation compares the refit BVH's SAH cost with the built tree's
-// (a host refit of the whole tree: the costly part of an update of a large mesh).
+// How often (in updates) an optimisation compares the refit BVH's SAH cost with the built tree's.
 inline constexpr uint64_t kBvhQualityCheckInterval = 8;
 
 // A refit tree is rebuilt once its SAH cost exceeds this multiple of its cost when built.
@@ -38,8 +37,8 @@ class DeviceScene {
   DeviceScene(const DeviceScene&) = delete;
   DeviceScene& operator=(const DeviceScene&) = delete;
 
-  // Moves the scene to θ on the device. With `checkQuality`, measures the refit BVH on the host
-  // (O(triangles)) and rebuilds it when it has degraded past kBvhRebuildRatio.
+  // Moves the scene to θ on the device. With `checkQuality`, measures the refit BVH's SAH cost on
+  // the device (bvh_sah_cost) and rebuilds the tree when it has degraded past kBvhRebuildRatio.
   void update(std::span<const double> theta, bool checkQuality);
 
   // The host's view at the current θ: materials, lights, gate, camera and render settings are
@@ -72,7 +71,9 @@ class DeviceScene {
  private:
   void build(const Scene& sceneAtBuild);
   void uploadTables();
-  void runUpdatePasses(bool moveGeometry);
+  // Records and runs the update's passes; with `measureSah` (and moved geometry) also the refit
+  // tree's SAH cost, which it returns (0 otherwise).
+  double runUpdatePasses(bool moveGeometry, bool measureSah = false);
 
   VulkanContext& m_context;
   const ParameterModel* m_model = nullptr;
@@ -87,8 +88,6 @@ class DeviceScene {
   std::vector<uint32_t> m_emitterTriangles;
   std::vector<bool> m_movingShapes;
   double m_buildCost = 0, m_lastSahRatio = 1;
-  std::vector<glm::vec3> m_checkVertices;  // the quality check's vertices at θ and refit boxes
-  BvhRefitScratch m_checkScratch;
   uint32_t m_rebuilds = 0;
 
   struct UpdateResources;

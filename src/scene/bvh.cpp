@@ -530,56 +530,29 @@ double bvhSahCost(const Bvh& bvh, float traversalCost) {
   });
 }
 
-namespace {
-
-// refitSahCost over the leaf-order triangles triangleAt(i), i < count.
-template <class TriangleAt>
-double refitSahCostOf(const Bvh& bvh, size_t count, TriangleAt triangleAt, float traversalCost,
-                      std::vector<glm::vec3>& corners) {
-  // Every node's box after a refit (refitBvh's nodeBox, by the same min and max), children first:
-  // the builder appends a node's children after it, so reverse index order visits them before it.
-  corners.resize(2 * bvh.nodes.size());
-  auto boxOf = [&](size_t i) { return Box{corners[2 * i], corners[2 * i + 1]}; };
-  for (size_t i = bvh.nodes.size(); i-- > 0;) {
-    const gpu::GpuBvhNode& n = bvh.nodes[i];
-    const uint32_t leafCount = wordOf(n.rightMinCount.w);
-    Box box;
-    if (leafCount > 0) {
-      const uint32_t first = wordOf(n.rightMaxFirst.w);
-      if (size_t(first) + leafCount > count) throw Error("internal: a BVH leaf beyond the triangles refit to");
-      for (uint32_t t = first; t < first + leafCount; ++t) box.grow(trianglePaddedBox(triangleAt(t)));
-    } else {
-      const uint32_t left = wordOf(n.leftMinLeftIndex.w), right = wordOf(n.leftMaxRightIndex.w);
-      if (left <= i || right <= i || left >= bvh.nodes.size() || right >= bvh.nodes.size())
-        throw Error("internal: a BVH node's children precede it");
-      box.grow(boxOf(left));
-      box.grow(boxOf(right));
-    }
-    corners[2 * i] = box.lo;
-    corners[2 * i + 1] = box.hi;
-  }
-  return sahCostOf(bvh, traversalCost, [&](const gpu::GpuBvhNode& n, bool right) {
-    return boxOf(wordOf(right ? n.leftMaxRightIndex.w : n.leftMinLeftIndex.w));
-  });
-}
-
-}  // namespace
-
 double refitSahCost(const Bvh& bvh, std::span<const BvhTriangle> triangles, float traversalCost) {
   if (triangles.empty()) return bvhSahCost(bvh, traversalCost);  // an empty tree's root is its own child
-  std::vector<glm::vec3> corners;
-  return refitSahCostOf(bvh, triangles.size(), [&](uint32_t i) { return triangles[i]; }, traversalCost, corners);
-}
-
-double refitSahCost(const Bvh& bvh, std::span<const glm::vec3> vertices, std::span<const glm::uvec4> triangleVerts,
-                    BvhRefitScratch& scratch, float traversalCost) {
-  if (triangleVerts.empty()) return bvhSahCost(bvh, traversalCost);
-  auto triangleAt = [&](uint32_t i) {
-    const glm::uvec4& ids = triangleVerts[i];
-    if (std::max({ids.x, ids.y, ids.z}) >= vertices.size()) throw Error("internal: a triangle's vertex beyond the vertices refit to");
-    return BvhTriangle{vertices[ids.x], vertices[ids.y], vertices[ids.z]};
-  };
-  return refitSahCostOf(bvh, triangleVerts.size(), triangleAt, traversalCost, scratch.corners);
+  // Every node's box after a refit (refitBvh's nodeBox, by the same min and max), children first:
+  // the builder appends a node's children after it, so reverse index order visits them before it.
+  std::vector<Box> boxes(bvh.nodes.size());
+  for (size_t i = bvh.nodes.size(); i-- > 0;) {
+    const gpu::GpuBvhNode& n = bvh.nodes[i];
+    const uint32_t count = wordOf(n.rightMinCount.w);
+    if (count > 0) {
+      if (size_t(wordOf(n.rightMaxFirst.w)) + count > triangles.size())
+        throw Error("internal: a BVH leaf beyond the triangles refit to");
+      boxes[i] = nodeBox(bvh, triangles, uint32_t(i));
+      continue;
+    }
+    const uint32_t left = wordOf(n.leftMinLeftIndex.w), right = wordOf(n.leftMaxRightIndex.w);
+    if (left <= i || right <= i || left >= boxes.size() || right >= boxes.size())
+      throw Error("internal: a BVH node's children precede it");
+    boxes[i].grow(boxes[left]);
+    boxes[i].grow(boxes[right]);
+  }
+  return sahCostOf(bvh, traversalCost, [&](const gpu::GpuBvhNode& n, bool right) {
+    return boxes[wordOf(right ? n.leftMaxRightIndex.w : n.leftMinLeftIndex.w)];
+  });
 }
 
 Bvh buildBvh(std::span<const BvhTriangle> triangles, const BvhBuildOptions& options) {

@@ -119,28 +119,21 @@ void ParameterModel::setScalars(Scene& scene, std::span<const double> theta) con
   for (uint32_t k : m_scalarParameters) applyParameter(scene, parameter(k), theta[k]);
 }
 
-glm::dvec3 ParameterModel::vertexAt(std::span<const double> theta, uint32_t shape, uint32_t vertex) const {
-  // Each op rounds to float, as applyParameters (and the device) does.
-  glm::dvec3 p(m_scene.shapes[shape].positions[vertex]);
-  const glm::uvec2 ops = m_vertexOps[m_firstVertex[shape] + vertex];
-  for (uint32_t o = ops.x; o < ops.x + ops.y; ++o) {
-    const uint32_t k = m_opList[o];
-    p = roundedToFloat(moveVertex(parameter(k), p, theta[k]));
-  }
-  return p;
-}
-
 std::vector<glm::dvec3> ParameterModel::shapePositions(std::span<const double> theta, uint32_t shape) const {
-  const uint32_t count = uint32_t(m_scene.shapes.at(shape).positions.size());
   std::vector<glm::dvec3> out;
-  out.reserve(count);
-  for (uint32_t i = 0; i < count; ++i) out.push_back(vertexAt(theta, shape, i));
+  const Shape& s = m_scene.shapes.at(shape);
+  out.reserve(s.positions.size());
+  for (uint32_t i = 0; i < s.positions.size(); ++i) {
+    // Each op rounds to float, as applyParameters (and the device) does.
+    glm::dvec3 p(s.positions[i]);
+    const glm::uvec2 ops = m_vertexOps[m_firstVertex[shape] + i];
+    for (uint32_t o = ops.x; o < ops.x + ops.y; ++o) {
+      const uint32_t k = m_opList[o];
+      p = roundedToFloat(moveVertex(parameter(k), p, theta[k]));
+    }
+    out.push_back(p);
+  }
   return out;
-}
-
-void ParameterModel::appendShapePositions(std::span<const double> theta, uint32_t shape, std::vector<glm::vec3>& out) const {
-  const uint32_t count = uint32_t(m_scene.shapes.at(shape).positions.size());
-  for (uint32_t i = 0; i < count; ++i) out.emplace_back(vertexAt(theta, shape, i));
 }
 
 VertexOpTables ParameterModel::deviceTables() const {
