@@ -9,7 +9,12 @@
 #include "vktg/silhouette_edges.h"
 
 namespace vktg {
+
 namespace {
+
+// Nodes one invocation of bvh_sah_cost sums, in order: few enough partial sums for the host, enough
+// invocations for the device.
+constexpr uint32_t kSahNodesPerInvocation = 64;
 
 template <class T>
 Buffer deviceArray(const VulkanContext& context, const std::vector<T>& data, const std::string& name) {
@@ -208,12 +213,13 @@ double DeviceScene::runUpdatePasses(bool moveGeometry, bool measureSah) {
     table.set(gpu::kUpdateBindingEdges, m_edgeBuffer);
     table.set(gpu::kUpdateBindingEdgeFaces, m_edgeFaces);
   }
-  // bvh_sah_cost's partial sums, one per workgroup of nodes, written where the host reads them.
+  // bvh_sah_cost's partial sums, one per invocation of kSahNodesPerInvocation nodes, written where
+  // the host reads them.
   const uint32_t nodes = uint32_t(m_prepared.bvh.nodes.size());
   const bool sumSah = measureSah && moveGeometry && nodes > 1;
-  const uint32_t sahGroups = sumSah ? groupsFor(nodes, m_context, "BVH nodes") : 0u;
+  const uint32_t sahInvocations = sumSah ? (nodes + kSahNodesPerInvocation - 1) / kSahNodesPerInvocation : 0u;
   if (sumSah) {
-    const uint64_t bytes = uint64_t(sahGroups) * sizeof(float);
+    const uint64_t bytes = uint64_t(sahInvocations) * sizeof(float);
     if (u.sahPartials.size() < bytes) u.sahPartials = Buffer(m_context, bytes, MemoryKind::Readback, "update.sahPartials");
     table.set(gpu::kUpdateBindingSahPartials, u.sahPartials);
   }
@@ -257,7 +263,7 @@ double DeviceScene::runUpdatePasses(bool moveGeometry, bool measureSah) {
   }
   if (m_edgesBuilt) dispatch("update_edges", groupsFor(m_edgeCount, m_context, "edges"), glm::uvec4(0));
   if (sumSah) {
-    dispatch("bvh_sah_cost", sahGroups, glm::uvec4(0, 0, 0, nodes));
+    dispatch("bvh_sah_cost", groupsFor(sahInvocations, m_context, "BVH nodes"), glm::uvec4(sahInvocations, 0, 0, nodes));
     hostReadBarrier(cmd);
   }
   cmdBuffer.end();
@@ -266,7 +272,7 @@ double DeviceScene::runUpdatePasses(bool moveGeometry, bool measureSah) {
   // A tree of one leaf costs its triangle count; otherwise the root's visit plus the shares, added
   // in order.
   if (!sumSah) return bvhSahCost(m_prepared.bvh);
-  std::vector<float> partials(sahGroups);
+  std::vector<float> partials(sahInvocations);
   u.sahPartials.download(m_context, partials.data(), partials.size() * sizeof(float));
   double cost = 1.0;
   for (float p : partials) cost += p;
