@@ -226,6 +226,29 @@ TEST(GradAdjoint, StagedDeviceMemoryGivesTheSameGradient) {
   EXPECT_NE(mapped.theta[0], 0.0);
 }
 
+// The loss gradient of `view` with environment variable `variable` set to `first`, then to `second`,
+// both at the accumulators' scale a first gradient under `first` settled (so that neither retries):
+// for the tests that two ways of running the passes give the same bits.
+std::pair<LossGradient, LossGradient> gradientsUnder(const char* variable, const char* first, const char* second,
+                                                     const ParameterModel& model, const AdjointView& view,
+                                                     const GradientOptions& options) {
+  const std::vector<double> theta(model.size(), 0.0);
+  auto gradient = [&](const char* value, AdjointState& state) {
+    test::ScopedEnv env(variable, value);
+    Renderer renderer(test::testRenderer().context());
+    DeviceScene deviceScene(renderer.context(), model, theta, theta);
+    return lossGradient(renderer, deviceScene, {view}, options, state);
+  };
+  AdjointState settled;
+  gradient(first, settled);
+  AdjointState a, b;
+  a.scale = b.scale = settled.scale;
+  std::pair<LossGradient, LossGradient> both{gradient(first, a), gradient(second, b)};
+  EXPECT_EQ(both.first.attempts, 1u);
+  EXPECT_EQ(both.second.attempts, 1u);
+  return both;
+}
+
 // A GPU samples the edges with a pipeline per strategy, a CPU device with one pipeline for all three
 // (VKTG_EDGE_DISPATCH forces either): every sample takes the same path and the accumulators add
 // integers, so the edge term's gradient is the same bit for bit. The block's silhouette and the
@@ -235,25 +258,11 @@ TEST(GradAdjoint, EdgeStrategiesApartOrTogetherGiveTheSameGradient) {
   const Scene scene = test::roomScene();
   const std::vector<std::string> names = {"block_x", "bulb_y", "spin"};
   const ParameterModel model = modelOf(scene, names);
-  std::vector<double> theta(model.size(), 0.0);
   const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
   const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
   GradientOptions edgesOnly = options(64, 8);
   edgesOnly.interior = edgesOnly.pathLength = false;
-  auto gradientUnder = [&](const char* dispatch, AdjointState& state) {
-    test::ScopedEnv env("VKTG_EDGE_DISPATCH", dispatch);
-    Renderer renderer(test::testRenderer().context());
-    DeviceScene deviceScene(renderer.context(), model, theta, theta);
-    return lossGradient(renderer, deviceScene, {view}, edgesOnly, state);
-  };
-  AdjointState settled;
-  gradientUnder("single", settled);
-  AdjointState together, apart;
-  together.scale = apart.scale = settled.scale;
-  const LossGradient single = gradientUnder("single", together);
-  const LossGradient split = gradientUnder("split", apart);
-  ASSERT_EQ(single.attempts, 1u);
-  ASSERT_EQ(split.attempts, 1u);
+  const auto [single, split] = gradientsUnder("VKTG_EDGE_DISPATCH", "single", "split", model, view, edgesOnly);
   for (size_t k = 0; k < names.size(); ++k) {
     EXPECT_EQ(split.theta[k], single.theta[k]) << names[k];
     EXPECT_NE(single.theta[k], 0.0) << names[k] << ": the edge term should move it";
@@ -269,23 +278,9 @@ TEST(GradAdjoint, SubgroupSumsOrSingleAddsGiveTheSameGradient) {
   const Scene scene = test::roomScene();
   const std::vector<std::string> names = {"block_x", "spin", "bulb_y", "bulb_power", "floor_albedo", "gloss", "lamp_power", "t0"};
   const ParameterModel model = modelOf(scene, names);
-  std::vector<double> theta(model.size(), 0.0);
   const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
   const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
-  auto gradientUnder = [&](const char* scatter, AdjointState& state) {
-    test::ScopedEnv env("VKTG_SCATTER", scatter);
-    Renderer renderer(test::testRenderer().context());
-    DeviceScene deviceScene(renderer.context(), model, theta, theta);
-    return lossGradient(renderer, deviceScene, {view}, options(16, 16), state);
-  };
-  AdjointState settled;
-  gradientUnder("direct", settled);
-  AdjointState one, summed;
-  one.scale = summed.scale = settled.scale;
-  const LossGradient direct = gradientUnder("direct", one);
-  const LossGradient aggregated = gradientUnder("aggregate", summed);
-  ASSERT_EQ(direct.attempts, 1u);
-  ASSERT_EQ(aggregated.attempts, 1u);
+  const auto [direct, aggregated] = gradientsUnder("VKTG_SCATTER", "direct", "aggregate", model, view, options(16, 16));
   for (size_t k = 0; k < names.size(); ++k) {
     EXPECT_EQ(aggregated.theta[k], direct.theta[k]) << names[k];
     EXPECT_NE(direct.theta[k], 0.0) << names[k];
