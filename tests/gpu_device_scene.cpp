@@ -221,9 +221,9 @@ Scene bumpyField(uint32_t n) {
   return scene;
 }
 
-// The quality check sums the refit tree's SAH cost on the device (bvh_sah_cost: a partial sum per
-// workgroup of nodes, added on the host): the host's sum over the same refit tree in double
-// (refitSahCost) up to float rounding, for a tree of one workgroup of nodes and one of many, as
+// The quality check sums the refit tree's SAH cost on the device (bvh_sah_cost: partial sums over
+// runs of 64 nodes, added on the host): the host's sum over the same refit tree in double
+// (refitSahCost) up to float rounding, for a tree of a partial sum or two and one of a hundred, as
 // built and moved. A lost partial sum, a child's cost or box taken wrongly, moves it by far more.
 TEST(DeviceScene, QualityCheckSumsTheRefitTreesSahCost) {
   for (uint32_t n : {5u, 60u}) {

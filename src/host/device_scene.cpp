@@ -9,7 +9,6 @@
 #include "vktg/silhouette_edges.h"
 
 namespace vktg {
-
 namespace {
 
 // Nodes one invocation of bvh_sah_cost sums, in order: few enough partial sums for the host, enough

@@ -144,7 +144,7 @@ VKTG_CONST(uint, kUpdateBindingRefitOrder, 19);     // uint[]: internal BVH node
 VKTG_CONST(uint, kUpdateBindingEdges, 20);          // GpuEdge[]
 VKTG_CONST(uint, kUpdateBindingEdgeFaces, 21);      // uvec4[edge]: x, y the vertex opposite the edge in face 0, 1 (~0: none)
 VKTG_CONST(uint, kUpdateBindingWideBvhNodes, 22);  // GpuWideBvhNode[] (refit_wide_bvh)
-VKTG_CONST(uint, kUpdateBindingSahPartials, 23);   // float[workgroup]: bvh_sah_cost's partial sums
+VKTG_CONST(uint, kUpdateBindingSahPartials, 23);   // float[invocation]: bvh_sah_cost's partial sums
 VKTG_CONST(uint, kUpdateBindingCount, 24);
 
 // Shadow-ray slots of a path per bounce: per vertex a standard connection, an (antithetic) pair of
