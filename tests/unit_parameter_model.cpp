@@ -210,31 +210,46 @@ TEST(ParameterModel, ChainRuleIsTheDerivativeAtTheta) {
   }
 }
 
-// The loss gradient's form, vertices in fixed point as its accumulators hold them: the same numbers
-// bit for bit as converting them to doubles first and applying the chain rule to those.
+// The loss gradient's form, vertices in fixed point as its accumulators hold them (only the
+// components along the axes the selected parameters move vertices along): the same numbers bit for
+// bit as converting them to doubles first and applying the chain rule to those.
 TEST(ParameterModel, ChainRuleOfFixedPointVerticesEqualsTheirConversion) {
   const Scene scene = modelScene();
-  ParameterModel model(scene, allParameters(scene));
-  std::mt19937_64 rng(5);
-  const double scale = std::ldexp(1.0, 40);
-  SceneGradient g;
-  g.resize(scene);
-  std::vector<int64_t> fixed(3 * g.vertices.size());
-  for (int64_t& f : fixed) f = int64_t(rng() >> 20) - (int64_t(1) << 43);
-  fixed[3] = fixed[4] = fixed[5] = 0;  // a vertex no sample touched
-  for (size_t v = 0; v < g.vertices.size(); ++v)
-    g.vertices[v] = glm::dvec3(double(fixed[3 * v]) / scale, double(fixed[3 * v + 1]) / scale, double(fixed[3 * v + 2]) / scale);
-  g.materials.assign(g.materials.size(), glm::dvec3(0.25, -0.5, 0.125));
-  g.gateCenter = 0.375;
-  std::vector<double> theta(model.size(), 0.0);
-  theta[findParameter(scene, "spin")] = 0.7;
-  const std::vector<double> converted = model.chainRule(theta, g);
-  SceneGradient scalars = g;
-  scalars.vertices.clear();
-  const std::vector<double> direct = model.chainRule(theta, scalars, fixed, scale);
-  ASSERT_EQ(direct.size(), converted.size());
-  for (size_t k = 0; k < direct.size(); ++k) EXPECT_EQ(direct[k], converted[k]) << model.parameter(k).name;
-  EXPECT_THROW(model.chainRule(theta, scalars, std::span<const int64_t>(fixed).first(fixed.size() - 3), scale), Error);
+  // All three axes (the rotation), x alone, and x and z (the displacement's rotated direction).
+  const std::vector<std::pair<std::vector<std::string>, uint32_t>> selections{
+      {{}, 3}, {{"slide", "grey", "t0"}, 1}, {{"slide", "lift"}, 2}};
+  for (const auto& [names, expectedStride] : selections) {
+    std::vector<uint32_t> selected;
+    for (const std::string& n : names) selected.push_back(findParameter(scene, n));
+    ParameterModel model(scene, names.empty() ? allParameters(scene) : selected);
+    const glm::bvec3 axes = model.vertexMotionAxes();
+    const uint32_t stride = model.vertexGradientStride();
+    ASSERT_EQ(stride, expectedStride);
+    std::mt19937_64 rng(5);
+    const double scale = std::ldexp(1.0, 40);
+    SceneGradient g;
+    g.resize(scene);
+    std::vector<int64_t> fixed(stride * g.vertices.size());
+    for (int64_t& f : fixed) f = int64_t(rng() >> 20) - (int64_t(1) << 43);
+    for (uint32_t i = 0; i < stride; ++i) fixed[stride + i] = 0;  // a vertex no sample touched
+    for (size_t v = 0; v < g.vertices.size(); ++v) {
+      const int64_t* f = fixed.data() + stride * v;
+      for (int axis = 0; axis < 3; ++axis) g.vertices[v][axis] = axes[axis] ? double(*f++) / scale : 0.0;
+    }
+    g.materials.assign(g.materials.size(), glm::dvec3(0.25, -0.5, 0.125));
+    g.gateCenter = 0.375;
+    std::vector<double> theta(model.size(), 0.0);
+    for (size_t k = 0; k < model.size(); ++k)
+      if (model.parameter(k).name == "spin") theta[k] = 0.7;
+    const std::vector<double> converted = model.chainRule(theta, g);
+    SceneGradient scalars = g;
+    scalars.vertices.clear();
+    const std::vector<double> direct = model.chainRule(theta, scalars, fixed, scale);
+    ASSERT_EQ(direct.size(), converted.size());
+    for (size_t k = 0; k < direct.size(); ++k) EXPECT_EQ(direct[k], converted[k]) << model.parameter(k).name;
+    EXPECT_THROW(model.chainRule(theta, scalars, std::span<const int64_t>(fixed).first(fixed.size() - stride), scale),
+                 Error);
+  }
 }
 
 }  // namespace

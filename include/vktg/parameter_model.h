@@ -64,6 +64,10 @@ class ParameterModel {
   // The world axes along which some selected parameter moves a vertex: a translation's or a
   // displacement's nonzero axis components, all three once a rotation is selected.
   glm::bvec3 vertexMotionAxes() const { return m_motionAxes; }
+  // A loss gradient keeps per vertex only the components along those axes, in x, y, z order: this
+  // many (a flat heightfield's heights: y alone, a third of the accumulators to clear, fill, read
+  // back and scan).
+  uint32_t vertexGradientStride() const { return uint32_t(m_motionAxes.x) + uint32_t(m_motionAxes.y) + uint32_t(m_motionAxes.z); }
   const std::vector<bool>& movingVertices() const { return m_movingVertex; }  // per vertex
   // Per vertex: moved by a displacement (not rigidly with its shape).
   const std::vector<bool>& deformingVertices() const { return m_deformingVertex; }
@@ -80,9 +84,9 @@ class ParameterModel {
   // dℓ/dθ at θ from the gradient with respect to scene quantities at θ.
   std::vector<double> chainRule(std::span<const double> theta, const SceneGradient& gradient) const;
   // The same with the vertices' part in fixed point, as a loss gradient's accumulators hold it:
-  // vertex v's gradient is (fixed[3v], fixed[3v + 1], fixed[3v + 2]) / scale (bit for bit what
-  // converting them to doubles first gives; at 10^6 vertices that conversion was a pass of its own
-  // over 24 MB). gradient.vertices is not read.
+  // vertexGradientStride() values per vertex, the components along vertexMotionAxes() divided by
+  // `scale`, the others 0 (bit for bit what converting them to doubles first gives; at 10^6
+  // vertices that conversion was a pass of its own over 24 MB). gradient.vertices is not read.
   std::vector<double> chainRule(std::span<const double> theta, const SceneGradient& gradient,
                                 std::span<const int64_t> fixed, double scale) const;
 

@@ -82,12 +82,15 @@ void countScatterFaults() {
   if (scatterOverflows > 0u) atomicAdd(counters[kCounterGradientOverflow], scatterOverflows);
 }
 
-// The components no parameter moves vertices along are not compiled in (kAdjointVertexX/Y/Z).
+// A vertex has an accumulator only for the components some parameter moves vertices along
+// (kAdjointVertexX/Y/Z), in x, y, z order (ParameterModel::vertexGradientStride): the others are
+// neither compiled in nor stored.
 void scatterVertex(uint vertex, vec3 g) {
-  uint slot = frame.gradientLayout.w + 3u * vertex;
-  if (differentiates(kAdjointVertexX)) scatter(slot, g.x);
-  if (differentiates(kAdjointVertexY)) scatter(slot + 1u, g.y);
-  if (differentiates(kAdjointVertexZ)) scatter(slot + 2u, g.z);
+  bool x = differentiates(kAdjointVertexX), y = differentiates(kAdjointVertexY), z = differentiates(kAdjointVertexZ);
+  uint slot = frame.gradientLayout.w + (uint(x) + uint(y) + uint(z)) * vertex;
+  if (x) scatter(slot++, g.x);
+  if (y) scatter(slot++, g.y);
+  if (z) scatter(slot, g.z);
 }
 
 void scatterGate(float g) {

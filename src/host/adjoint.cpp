@@ -7,13 +7,13 @@
 
 namespace vktg {
 
-GradientLayout gradientLayout(const Scene& scene, const PreparedScene& prepared) {
+GradientLayout gradientLayout(const Scene& scene, const PreparedScene& prepared, const ParameterModel& model) {
   GradientLayout l;
   l.materials = 1;  // slot 0: the gate centre
   l.emission = l.materials + 3 * uint32_t(scene.materials.size());
   l.lights = l.emission + uint32_t(scene.shapes.size());
   l.vertices = l.lights + 4 * uint32_t(scene.pointLights.size());
-  l.total = l.vertices + 3 * uint32_t(prepared.vertices.size());
+  l.total = l.vertices + model.vertexGradientStride() * uint32_t(prepared.vertices.size());
   return l;
 }
 

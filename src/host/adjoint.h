@@ -17,9 +17,11 @@ namespace vktg {
 // Where each quantity's accumulators start (in int64 slots), as FrameUniforms.gradientLayout.
 struct GradientLayout {
   uint32_t materials = 1, emission = 1, lights = 1, vertices = 1, total = 1;
+  bool operator==(const GradientLayout&) const = default;
 };
 
-GradientLayout gradientLayout(const Scene& scene, const PreparedScene& prepared);
+// Vertices hold model.vertexGradientStride() accumulators each (lib/adjoint.glsl, scatterVertex).
+GradientLayout gradientLayout(const Scene& scene, const PreparedScene& prepared, const ParameterModel& model);
 
 // kAdjoint* bits (include/vktg/gpu/shared.h): what `model`'s parameters touch.
 uint32_t adjointTargets(const ParameterModel& model);

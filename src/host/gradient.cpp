@@ -395,8 +395,8 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     }
   }
   if (!plans.empty()) result.plan = plans.front();
-  const GradientLayout layout = gradientLayout(scene.scene(), scene.prepared());
-  if (!state.accumulator || state.accumulator->layout().total != layout.total)
+  const GradientLayout layout = gradientLayout(scene.scene(), scene.prepared(), *model);
+  if (!state.accumulator || !(state.accumulator->layout() == layout))
     state.accumulator = std::make_unique<GradientAccumulator>(context, layout);
   // Views a render can hold together go in one group, each with its adjoint images stacked as
   // the render stacks the views' images.

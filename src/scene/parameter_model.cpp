@@ -219,10 +219,14 @@ std::vector<double> ParameterModel::chainRule(std::span<const double> theta, con
                                               std::span<const int64_t> fixed, double scale) const {
   std::vector<double> out = scalarChainRule(theta, g);
   if (m_opList.empty()) return out;
-  if (fixed.size() != 3 * m_vertexOps.size()) throw Error("internal: vertex gradient has the wrong size");
+  const uint32_t stride = vertexGradientStride();
+  if (fixed.size() != stride * m_vertexOps.size()) throw Error("internal: vertex gradient has the wrong size");
   addVertexChainRule(theta, [&](uint32_t v) {
-    const int64_t* f = fixed.data() + 3 * size_t(v);
-    return glm::dvec3(double(f[0]) / scale, double(f[1]) / scale, double(f[2]) / scale);
+    const int64_t* f = fixed.data() + stride * size_t(v);
+    glm::dvec3 g(0.0);
+    for (int axis = 0; axis < 3; ++axis)
+      if (m_motionAxes[axis]) g[axis] = double(*f++) / scale;
+    return g;
   }, out);
   return out;
 }

@@ -332,7 +332,8 @@ struct FrameUniforms {
   uvec4 edgeInfo;         // x: silhouette-capable edges (kBindingEdges), y: edge samples of the render, z, w unused
   // Adjoint passes: where each scene quantity's accumulators start in kBindingGradient (int64 slots):
   // slot 0 the gate centre, then x: materials (albedo, roughness, ior each), y: shape emission,
-  // z: point lights (intensity, position xyz each), w: vertices (xyz each).
+  // z: point lights (intensity, position xyz each), w: vertices (each the components some parameter
+  // moves vertices along, in x, y, z order: lib/adjoint.glsl, scatterVertex).
   uvec4 gradientLayout;
   uvec4 adjointInfo;      // x: index of the first point light in the lights array, y-w unused
   vec4 adjointScale;      // x: accumulators hold round(value * x) (a power of two), y: the samples a pixel's
