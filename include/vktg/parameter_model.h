@@ -65,9 +65,11 @@ class ParameterModel {
   // displacement's nonzero axis components, all three once a rotation is selected.
   glm::bvec3 vertexMotionAxes() const { return m_motionAxes; }
   // A loss gradient keeps per vertex only the components along those axes, in x, y, z order: this
-  // many (a flat heightfield's heights: y alone, a third of the accumulators to clear, fill, read
+  // many (a flat heightfield's heights: y alone, a third of the accumulators to clear, add to, copy
   // back and scan).
-  uint32_t vertexGradientStride() const { return uint32_t(m_motionAxes.x) + uint32_t(m_motionAxes.y) + uint32_t(m_motionAxes.z); }
+  uint32_t vertexGradientStride() const {
+    return uint32_t(m_motionAxes.x) + uint32_t(m_motionAxes.y) + uint32_t(m_motionAxes.z);
+  }
   const std::vector<bool>& movingVertices() const { return m_movingVertex; }  // per vertex
   // Per vertex: moved by a displacement (not rigidly with its shape).
   const std::vector<bool>& deformingVertices() const { return m_deformingVertex; }
