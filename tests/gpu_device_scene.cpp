@@ -11,7 +11,6 @@
 #include <cstring>
 
 #include "host/device_scene.h"
-#include "scene/primitives.h"
 #include "support/gpu_context.h"
 #include "support/render_test.h"
 #include "vktg/bvh.h"
@@ -198,27 +197,22 @@ TEST(DeviceScene, MovedSceneRendersLikeAFreshOne) {
   expectRendersLikeAFreshScene(device, model.sceneAt(theta));
 }
 
-// An n x n heightfield of bumps with a displacement parameter per vertex, as an optimisation moves it.
+// An n x n heightfield of bumps whose every height is a parameter, as an optimisation moves it.
 Scene bumpyField(uint32_t n) {
-  Scene scene = movingScene();
-  std::vector<float> heights(size_t(n) * n);
-  for (uint32_t i = 0; i < heights.size(); ++i) heights[i] = 0.1f * std::sin(0.37f * float(i));
-  TriangleMesh mesh = makeHeightfield(n, n, 2.0f, 2.0f, heights);
-  scene.shapes[0].positions = std::move(mesh.positions);
-  scene.shapes[0].triangles = std::move(mesh.triangles);
-  scene.shapes[0].grid = {n, n};
-  scene.parameters.clear();
-  for (uint32_t k = 0; k < n * n; ++k) {
-    Parameter p;
-    p.name = "h";
-    p.name += std::to_string(k);
-    p.kind = ParameterKind::Displace;
-    p.target = scene.shapes[0].name;
-    p.axis = glm::vec3(0, 1, 0);
-    p.vertices = {k};
-    scene.parameters.push_back(std::move(p));
-  }
-  return scene;
+  std::string heights;
+  for (uint32_t i = 0; i < n * n; ++i) heights += (i ? ", " : "") + std::to_string(0.1 * std::sin(0.37 * double(i)));
+  const std::string size = std::to_string(n);
+  return parseSceneJson(R"({
+    "version": 1,
+    "camera": {"type": "perspective", "position": [0, 1.6, 2.4], "look_at": [0, 0, 0], "resolution": [8, 8]},
+    "materials": {"ground": {"type": "diffuse", "albedo": 0.6}},
+    "shapes": [
+      {"name": "ground", "type": "heightfield", "resolution": [)" + size + ", " + size + R"(], "size": [2, 2],
+       "material": "ground", "heights": [)" + heights + R"(]},
+      {"name": "lamp", "type": "rectangle", "emission": 6, "transform": {"translate": [0, 1.5, 0], "rotate": [90, 0, 0], "scale": 0.4}}
+    ],
+    "parameters": [{"type": "heightfield_heights", "shape": "ground", "name_prefix": "h"}]
+  })", "bumpy.json", ".");
 }
 
 // The quality check sums the refit tree's SAH cost on the device (bvh_sah_cost: partial sums over

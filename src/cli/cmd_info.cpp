@@ -33,7 +33,7 @@ int runInfo(const std::vector<std::string>& argv) {
                 d.driver.c_str());
     std::printf("    usable by vktg: %s\n", d.usable ? "yes" : ("no, lacks " + d.missing).c_str());
     std::printf("    float atomic add (VK_EXT_shader_atomic_float): %s\n", d.floatAtomicAdd ? "yes" : "no");
-    std::printf("    subgroup ballot and arithmetic: %s\n", d.subgroupArithmetic ? "yes" : "no");
+    std::printf("    subgroup ballot and arithmetic: %s\n", d.subgroupBallotArithmetic ? "yes" : "no");
     std::printf("    maxStorageBufferRange: %llu bytes (larger buffers are split)\n", (unsigned long long)d.maxStorageBufferRange);
     std::printf("    maxComputeWorkGroupCount[0]: %u, maxComputeWorkGroupInvocations: %u\n", d.maxComputeWorkGroupCount,
                 d.maxComputeWorkGroupInvocations);

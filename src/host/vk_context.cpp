@@ -105,7 +105,7 @@ DeviceReport describeDevice(VkPhysicalDevice device, uint32_t index) {
   r.timestampPeriodNs = limits.timestampPeriod;
   r.floatAtomicAdd = atomicExt && atomics.shaderBufferFloat32AtomicAdd;
   constexpr VkSubgroupFeatureFlags kSubgroupOps = VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
-  r.subgroupArithmetic = (subgroup.supportedOperations & kSubgroupOps) == kSubgroupOps &&
+  r.subgroupBallotArithmetic = (subgroup.supportedOperations & kSubgroupOps) == kSubgroupOps &&
                          (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0;
   r.int64Atomics = features.features.shaderInt64 && vulkan12.shaderBufferInt64Atomics;
   VkPhysicalDeviceMemoryProperties memory;
@@ -119,7 +119,7 @@ DeviceReport describeDevice(VkPhysicalDevice device, uint32_t index) {
   // The adjoint passes' gradient accumulators are 64-bit integers (host/adjoint.h).
   if (!r.int64Atomics) missing.push_back("64-bit integer atomics (shaderInt64, shaderBufferInt64Atomics)");
   // ... which a subgroup's lanes that add to the same one may first sum (shaders/lib/adjoint.glsl).
-  if (!r.subgroupArithmetic) missing.push_back("subgroup ballot and arithmetic in compute shaders");
+  if (!r.subgroupBallotArithmetic) missing.push_back("subgroup ballot and arithmetic in compute shaders");
   if (computeQueueFamily(device) < 0) missing.push_back("a compute queue with timestamps");
   if (limits.maxPerStageDescriptorStorageBuffers < gpu::kBindingCount) missing.push_back("enough storage-buffer bindings");
   for (const auto& m : missing) r.missing += (r.missing.empty() ? "" : ", ") + m;

@@ -43,7 +43,7 @@ struct DeviceReport {
   uint64_t deviceLocalBytes = 0;
   float timestampPeriodNs = 0;
   bool floatAtomicAdd = false;
-  bool subgroupArithmetic = false;  // ballot and arithmetic, in compute shaders
+  bool subgroupBallotArithmetic = false;  // in compute shaders
   bool int64Atomics = false;
 };
 
