@@ -14,6 +14,7 @@
 #include "support/gpu_context.h"
 #include "support/render_test.h"
 #include "vktg/bvh.h"
+#include "vktg/silhouette_edges.h"
 
 namespace vktg::test {
 namespace {
@@ -255,10 +256,16 @@ TEST(DeviceScene, DegradedTreeIsRebuiltReproducibly) {
   // Every other height far up: the refit boxes of the flat ground balloon.
   for (size_t k = 0; k < 25; k += 2) theta[findParameter(scene, "h" + std::to_string(k))] = 1.5;
   DeviceScene device(testContext(), model, zero, zero);
+  device.edges(model.movingVertices(), model.deformingVertices());
+  const std::vector<glm::uvec4> leafOrder = device.prepared().triangleVerts;
   device.update(theta, true);
   std::printf("  SAH cost of the refit tree / when built: %.3f, rebuilds %u\n", device.lastSahRatio(), device.rebuilds());
   EXPECT_GT(device.lastSahRatio(), kBvhRebuildRatio);
   EXPECT_EQ(device.rebuilds(), 1u);
+  // The edge list is made again with the tree: its faces name their triangles in the new leaf order.
+  EXPECT_NE(device.prepared().triangleVerts, leafOrder);
+  const EdgeList edges = edgeList(device.prepared(), model.movingVertices(), model.deformingVertices());
+  EXPECT_EQ(download<glm::uvec4>(device.edgeFaces(), edges.faces.size()), edges.faces);
   EXPECT_EQ(std::vector<double>(device.buildTheta().begin(), device.buildTheta().end()), theta);
   expectRendersLikeAFreshScene(device, model.sceneAt(theta));
   // A scene built at the recorded θ holds the same tree (what a resumed run relies on).

@@ -2,6 +2,7 @@
 // silhouettes, their face directions, and the selection CDF by length.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -143,6 +144,40 @@ TEST(SilhouetteEdges, EdgesComeOnceEachInOrderOfTheirEndsPositions) {
   expectValidCdf(edges);
 }
 
+// Each face of an edge named by its triangle in leaf order (what sample_edges tests a ray beside the
+// edge against): a triangle with both of the edge's ends and the face's opposite vertex; ~0 where
+// the edge has no second face.
+void expectFacesNameTheirTriangles(const PreparedScene& prepared, const EdgeList& list) {
+  ASSERT_EQ(list.faces.size(), list.edges.size());
+  for (size_t e = 0; e < list.edges.size(); ++e) {
+    const glm::uvec4& faces = list.faces[e];
+    const bool twoFaces = glm::length(glm::vec3(list.edges[e].inward1)) > 0.0f;
+    for (int face = 0; face < 2; ++face) {
+      const uint32_t opposite = face == 0 ? faces.x : faces.y, triangle = face == 0 ? faces.z : faces.w;
+      if (face == 1 && !twoFaces) {
+        EXPECT_EQ(triangle, 0xffffffffu) << "edge " << e << " has one face";
+        continue;
+      }
+      ASSERT_LT(triangle, prepared.triangleVerts.size()) << "edge " << e << ", face " << face;
+      std::vector<glm::vec3> corners;
+      for (uint32_t v : {prepared.triangleVerts[triangle].x, prepared.triangleVerts[triangle].y, prepared.triangleVerts[triangle].z})
+        corners.push_back(glm::vec3(prepared.vertices[v]));
+      for (glm::vec3 p : {glm::vec3(list.edges[e].p0), glm::vec3(list.edges[e].p1), glm::vec3(prepared.vertices[opposite])})
+        EXPECT_NE(std::find(corners.begin(), corners.end(), p), corners.end())
+            << "edge " << e << ", face " << face << ": triangle " << triangle << " lacks a corner";
+    }
+  }
+}
+
+TEST(SilhouetteEdges, EveryFaceIsNamedByItsTriangle) {
+  Scene scene = sceneWith(R"({"name": "c", "type": "cube", "material": "m", "transform": {"rotate": [20, 30, 0]}},
+                             {"name": "r", "type": "rectangle", "material": "m", "transform": {"translate": [0, -2, 0]}})");
+  const PreparedScene prepared = prepareScene(scene);
+  const EdgeList list = edgeList(prepared, {}, {});
+  ASSERT_EQ(list.edges.size(), 16u);
+  expectFacesNameTheirTriangles(prepared, list);
+}
+
 TEST(SilhouetteEdges, AnEdgeOfThreeFacesIsTheCreaseOfTheFirstTwoListed) {
   // Three fins on the edge from (0,0,0) to (0,0,1), no two of them coplanar.
   Scene scene = sceneWith(R"({"name": "far", "type": "rectangle", "material": "m", "transform": {"translate": [9, 9, 9]}})");
@@ -171,6 +206,7 @@ TEST(SilhouetteEdges, AnEdgeOfThreeFacesIsTheCreaseOfTheFirstTwoListed) {
     EXPECT_EQ(glm::vec3(prepared.vertices[list.faces[e].y]), tips[1]);
   }
   EXPECT_EQ(found, 1);
+  expectFacesNameTheirTriangles(prepared, list);
 }
 
 }  // namespace

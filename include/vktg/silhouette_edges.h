@@ -23,7 +23,9 @@ namespace vktg {
 std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const std::vector<bool>& movingVertex = {});
 
 // The same edges with, per edge, the vertex opposite it in each of its first two faces (x, y; ~0 for
-// none), which is what moving the list with its vertices needs. Flat creases with a vertex that
+// none), which is what moving the list with its vertices needs, and those faces' triangles in the
+// prepared scene's leaf order (z, w; ~0 for none), which the edge pass tests a ray beside the edge
+// against before it traverses the BVH. Flat creases with a vertex that
 // `deformingVertex` marks (per vertex; displaced on its own, not with its whole shape) are kept
 // too: deformation can fold them into silhouettes (a heightfield starting flat). Rigid motion
 // never folds a crease.

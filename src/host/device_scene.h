@@ -54,6 +54,8 @@ class DeviceScene {
   // either set changes, moved with the scene from then on.
   const Buffer& edges(const std::vector<bool>& movingVertex, const std::vector<bool>& deformingVertex);
   uint32_t edgeCount() const { return m_edgeCount; }
+  // Per edge of that list, its faces' opposite vertices and triangles (EdgeList::faces).
+  const Buffer& edgeFaces() const { return m_edgeFaces; }
 
   // Places the point lights for one view (a target's laser positions): a light the view names sits
   // at the view's position plus what the parameters move it by at the current θ; every other light

@@ -284,7 +284,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   extra.largestBuffer = std::max<uint64_t>({uint64_t(key.tapeVertices) * sizeof(gpu::TapeVertex),
                                             key.shadowAdjoint ? gpu::kShadowRaysPerPath * sizeof(gpu::ShadowAdjoint) : 0,
                                             key.edgeRecords ? sizeof(gpu::EdgeRecord) : 0});
-  const uint64_t edgeBytes = edgeBuffer ? edgeBuffer->size() : 0;
+  const uint64_t edgeBytes = edgeBuffer ? edgeBuffer->size() + deviceScene.edgeFaces().size() : 0;
   // Fail before the film is allocated, naming what the render would need.
   RenderMemory need = filmAndBatchNeed(width, height, layers, channels, lanes, extra);
   need.film = filmBytes;  // none for an adjoint render without its image
@@ -380,7 +380,10 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     table.set(gpu::kBindingTape, resources.tape);
     table.set(gpu::kBindingShadowAdjoint, resources.shadowAdjoint);
   }
-  if (edges) table.set(gpu::kBindingEdgeRecords, resources.edgeRecords);
+  if (edges) {
+    table.set(gpu::kBindingEdgeRecords, resources.edgeRecords);
+    table.set(gpu::kBindingEdgeFaces, deviceScene.edgeFaces());
+  }
   DescriptorSet set(context, pipelines, table, m_impl->dummy);
 
   SpecValues spec{};

@@ -50,6 +50,7 @@ struct EdgeFaces {
   glm::vec3 inward[2];                // per face: unit in-face direction perpendicular to the edge
   glm::vec3 normal[2];                // per face: unit normal
   uint32_t opposite[2] = {0, 0};      // per face: the vertex not on the edge
+  uint32_t triangle[2] = {0, 0};      // per face: its triangle (the prepared scene's leaf order)
 };
 
 // Faces closer to coplanar than this (1 - cos of the dihedral deviation) form a flat crease.
@@ -127,6 +128,7 @@ void forEachEdge(const PreparedScene& prepared, Visit visit) {
         faces.inward[face] = glm::normalize(inward);
         faces.normal[face] = c.n;
         faces.opposite[face] = c.ids[k];
+        faces.triangle[face] = uint32_t(side.visit / 3);
       }
       visit(faces);
       s = end;
@@ -166,7 +168,9 @@ EdgeList edgeList(const PreparedScene& prepared, const std::vector<bool>& moving
     edge.inward0 = glm::vec4(faces.inward[0], 0.0f);
     edge.inward1 = glm::vec4(faces.count >= 2 ? faces.inward[1] : glm::vec3(0.0f), 0.0f);
     out.push_back(edge);
-    list.faces.emplace_back(faces.opposite[0], faces.count >= 2 ? faces.opposite[1] : 0xffffffffu, 0u, 0u);
+    const bool twoFaces = faces.count >= 2;
+    list.faces.emplace_back(faces.opposite[0], twoFaces ? faces.opposite[1] : 0xffffffffu, faces.triangle[0],
+                            twoFaces ? faces.triangle[1] : 0xffffffffu);
     lengths.push_back(glm::length(p1 - p0));
     moving.push_back(moves(v0) || moves(v1));
     total += lengths.back();

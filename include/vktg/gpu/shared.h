@@ -115,6 +115,7 @@ VKTG_CONST(uint, kBindingTape, 27);            // TapeVertex[vertex * batch + pa
 VKTG_CONST(uint, kBindingShadowAdjoint, 28);   // ShadowAdjoint[shadow slot]: what a connection's vertices are
 // Edge passes (forward and adjoint): the boundary geometry of every path slot.
 VKTG_CONST(uint, kBindingEdgeRecords, 27);     // EdgeRecord[slot]
+VKTG_CONST(uint, kBindingEdgeFaces, 28);       // uvec4[edge]: as kUpdateBindingEdgeFaces
 VKTG_CONST(uint, kBindingTestIn, 29);        // test kernels only
 VKTG_CONST(uint, kBindingTestOut, 30);       // test kernels only
 VKTG_CONST(uint, kBindingEdges, 31);        // GpuEdge[]: silhouette-capable edges with a CDF by length
@@ -142,7 +143,7 @@ VKTG_CONST(uint, kUpdateBindingParameterOps, 17);   // GpuParameterOp[θ index]
 VKTG_CONST(uint, kUpdateBindingTheta, 18);          // float[θ index]
 VKTG_CONST(uint, kUpdateBindingRefitOrder, 19);     // uint[]: internal BVH nodes, deepest level first
 VKTG_CONST(uint, kUpdateBindingEdges, 20);          // GpuEdge[]
-VKTG_CONST(uint, kUpdateBindingEdgeFaces, 21);      // uvec4[edge]: x, y the vertex opposite the edge in face 0, 1 (~0: none)
+VKTG_CONST(uint, kUpdateBindingEdgeFaces, 21);      // uvec4[edge]: x, y the vertex opposite the edge in face 0, 1; z, w those faces' triangles, leaf order (~0: none)
 VKTG_CONST(uint, kUpdateBindingWideBvhNodes, 22);  // GpuWideBvhNode[] (refit_wide_bvh)
 VKTG_CONST(uint, kUpdateBindingSahPartials, 23);   // float[invocation]: bvh_sah_cost's partial sums
 VKTG_CONST(uint, kUpdateBindingCount, 24);
