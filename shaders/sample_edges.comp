@@ -22,9 +22,10 @@
 // pinhole sample, or the to-light path); each slot's boundary geometry goes to its EdgeRecord,
 // from which accumulate_splats (forward lanes: the factor -v_n, +v_n on the occluded side) or
 // scatter_edges (the adjoint) finish the slot once its light side is known.
-// Reads: edges and their faces, scene BVH, camera. Writes: paths[2i, 2i+1], hits, ray queue 0, edge records,
-// edge counters. Dispatch: ceil(edge samples of the batch / kWorkgroupSize), once per strategy
-// pipeline (below); push.args: x first edge sample of the batch, w samples in the batch.
+// Reads: edges and their faces, scene BVH, camera. Writes: paths[2i, 2i+1], hits, ray queue 0,
+// edge records, edge counters; the first step the strategies' queues. Dispatch: ceil(edge samples of the batch / kWorkgroupSize) for the first step
+// (or for all strategies in one), then indirect over each strategy's queue (below); push.args: x
+// first edge sample of the batch, w samples in the batch.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
@@ -50,13 +51,17 @@ const uint kRngDimEdgeWalk = 8u;  // + walk step: the camera side's numbers (str
 // CPU device runs every branch that any lane of its SIMD group takes (three strategies, five BVH
 // traversals, per group when the choice was per sample), and a GPU warp diverges on the same.
 //
-// A GPU runs each strategy as a pipeline of its own (kSpecEdgeStrategy, one dispatch each over all
-// the samples, which leave at once unless the strategy is theirs). In one pipeline the three took
-// an H100 1.7 times as long as apart, about as long as the primary strategy alone takes for every
-// sample: a pipeline is compiled for its heaviest code, and the primary strategy's appears to limit
-// how many invocations the GPU holds at once (docs/benchmarks.md, "On a GPU: NVIDIA H100"). On
-// lavapipe either way takes the same time, so a CPU device runs them together and compiles one
-// pipeline instead of three. Each sample takes the same path either way.
+// Each strategy runs as a pipeline of its own (kSpecEdgeStrategy) over the samples that are its
+// own: a first step (kEdgeSortSamples) gives every sample of the batch its empty slots and queues
+// it by strategy, then one dispatch per strategy runs over its queue (kCounterEdgeQueues). In one
+// pipeline the three took an H100 1.7 times as long as apart, about as long as the primary strategy
+// alone takes for every sample: a pipeline is compiled for its heaviest code, and the primary
+// strategy's appears to limit how many invocations the GPU holds at once. On lavapipe a pipeline
+// pays for its code even in invocations that leave before it: the pass took 140 ms where every
+// invocation left after giving out its slots, against 20 ms with the rest compiled out
+// (docs/benchmarks.md, "On a GPU: NVIDIA H100" and "What the 3× goal at 121 heights would take"),
+// so there each strategy's code must see only its own samples. Each sample takes the same path
+// whichever way it is dispatched (VKTG_EDGE_DISPATCH=single: one pipeline for all, over all).
 const uint kEdgeStrategyBlock = 32u, kEdgeStrategyCycle = 20u;
 const uint kPrimaryBlocks = 7u, kToLightBlocks = 9u;
 const float kPrimaryProbability = float(kPrimaryBlocks) / float(kEdgeStrategyCycle);
@@ -355,22 +360,39 @@ void toLightSample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3
   addContribution(slot, value, len);
 }
 
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= push.args.w) return;
-  // Random numbers are keyed by the sample's index within its view.
-  setViewOfSample(push.args.x + i);
-  uint sampleIndex = viewSample(push.args.x + i);
-  uint strategy = edgeStrategy(sampleIndex);
-  if (kSpecEdgeStrategyValue < kEdgeStrategyCount) {
-    if (strategy != kSpecEdgeStrategyValue) return;  // another dispatch's sample, slots included
-    strategy = kSpecEdgeStrategyValue;  // a constant: the other strategies' code is left out
-  }
+// Strategy s's queue of the batch's samples: ray queues 1 and 2 (the shadow queue), unused until
+// the light sides' first bounce, hold the three (a batch holds half as many samples as paths).
+uint edgeQueueEntry(uint strategy, uint index) { return frame.pathInfo.w + strategy * (frame.pathInfo.w / 2u) + index; }
+
+// The sample's empty slots (pixel kNoPixel, an empty record), which its strategy may fill.
+void clearSlots(uint i, uint sampleIndex) {
   for (uint side = 0u; side < 2u; ++side) {
     paths[2u * i + side].ids = uvec4(kNoPixel, sampleIndex, 0u, 0u);
     paths[2u * i + side].misc.z = viewBits();
     edgeRecords[2u * i + side] = EdgeRecord(vec4(0.0), vec4(0.0), uvec4(0xffffffffu), uvec4(0xffffffffu));
   }
+}
+
+void main() {
+  // The sample: the batch's i-th, or in a strategy's pipeline the i-th of its queue.
+  uint i = gl_GlobalInvocationID.x;
+  if (kSpecEdgeStrategyValue < kEdgeStrategyCount) {
+    if (i >= counters[kCounterEdgeQueues + kSpecEdgeStrategyValue]) return;
+    i = rayQueues[edgeQueueEntry(kSpecEdgeStrategyValue, i)];
+  } else if (i >= push.args.w) {
+    return;
+  }
+  // Random numbers are keyed by the sample's index within its view.
+  setViewOfSample(push.args.x + i);
+  uint sampleIndex = viewSample(push.args.x + i);
+  // In a strategy's pipeline a constant: the other strategies' code is left out.
+  uint strategy = kSpecEdgeStrategyValue < kEdgeStrategyCount ? kSpecEdgeStrategyValue : edgeStrategy(sampleIndex);
+  if (kSpecEdgeStrategyValue == kEdgeSortSamples) {
+    clearSlots(i, sampleIndex);
+    if (frame.edgeInfo.x != 0u) rayQueues[edgeQueueEntry(strategy, atomicAdd(counters[kCounterEdgeQueues + strategy], 1u))] = i;
+    return;
+  }
+  if (kSpecEdgeStrategyValue == kEdgeStrategyCount) clearSlots(i, sampleIndex);
   if (frame.edgeInfo.x == 0u) return;
   Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimCamera, viewSeed());
   vec4 u = rngNext4(rng);

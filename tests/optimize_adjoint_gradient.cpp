@@ -249,23 +249,29 @@ std::pair<LossGradient, LossGradient> gradientsUnder(const char* variable, const
   return both;
 }
 
-// A GPU samples the edges with a pipeline per strategy, a CPU device with one pipeline for all three
-// (VKTG_EDGE_DISPATCH forces either): every sample takes the same path and the accumulators add
-// integers, so the edge term's gradient is the same bit for bit. The block's silhouette and the
-// bulb's shadow of it give each strategy something to find: at 64 edge samples per pixel, leaving
-// out any one strategy's dispatch changes the gradient.
+// The edge samples sorted by strategy, each strategy's pipeline over its own, or one pipeline for
+// all three over every sample (VKTG_EDGE_DISPATCH forces either): every sample takes the same path
+// and the accumulators add integers, so the edge term's gradient is the same bit for bit, in one
+// batch and in several (each sorts its own samples). The block's silhouette and the bulb's shadow
+// of it give each strategy something to find: at 64 edge samples per pixel, leaving out any one
+// strategy's dispatch changes the gradient.
 TEST(GradAdjoint, EdgeStrategiesApartOrTogetherGiveTheSameGradient) {
   const Scene scene = test::roomScene();
   const std::vector<std::string> names = {"block_x", "bulb_y", "spin"};
   const ParameterModel model = modelOf(scene, names);
   const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
   const AdjointView view{RenderSetup::of(scene), {}, &adjoint};
-  GradientOptions edgesOnly = options(64, 8);
-  edgesOnly.interior = edgesOnly.pathLength = false;
-  const auto [single, split] = gradientsUnder("VKTG_EDGE_DISPATCH", "single", "split", model, view, edgesOnly);
-  for (size_t k = 0; k < names.size(); ++k) {
-    EXPECT_EQ(split.theta[k], single.theta[k]) << names[k];
-    EXPECT_NE(single.theta[k], 0.0) << names[k] << ": the edge term should move it";
+  for (uint64_t budget : {uint64_t(0), uint64_t(2) << 20}) {
+    SCOPED_TRACE(budget ? "a small memory budget" : "the default memory budget");
+    GradientOptions edgesOnly = options(64, 8);
+    edgesOnly.interior = edgesOnly.pathLength = false;
+    edgesOnly.render.memoryBudget = budget;
+    const auto [single, split] = gradientsUnder("VKTG_EDGE_DISPATCH", "single", "split", model, view, edgesOnly);
+    if (budget) EXPECT_GT(split.stats.batches, 1u) << "the small budget should split the edge render into batches";
+    for (size_t k = 0; k < names.size(); ++k) {
+      EXPECT_EQ(split.theta[k], single.theta[k]) << names[k];
+      EXPECT_NE(single.theta[k], 0.0) << names[k] << ": the edge term should move it";
+    }
   }
 }
 

@@ -425,20 +425,23 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   // too where an adjoint render returns its image).
   const std::string finishName = adjoint ? (edges ? "scatter_edges" : fromCamera ? "" : "backprop_paths")
                                          : (splat ? "accumulate_splats" : "accumulate");
-  // A GPU samples edges with one pipeline per strategy, a CPU device with one for all (the reasons:
-  // sample_edges.comp); VKTG_EDGE_DISPATCH=split|single overrides (tests): the same samples either way.
-  // (Read by every render, so that a bad value is an error wherever it is set.)
-  const bool edgeStrategiesApart = forcedChoice("VKTG_EDGE_DISPATCH", "split", "single").value_or(!context.isCpuDevice());
-  std::vector<SpecValues> generateSpecs = {spec};
+  // Edge samples are sorted by strategy, then each strategy's pipeline runs over its own (the
+  // reasons: sample_edges.comp); VKTG_EDGE_DISPATCH=single runs one pipeline for all over every
+  // sample (tests: the same samples either way). (Read by every render, so that a bad value is an
+  // error wherever it is set.)
+  const bool edgeStrategiesApart = forcedChoice("VKTG_EDGE_DISPATCH", "split", "single").value_or(true);
+  std::vector<SpecValues> generateSpecs = {spec}, edgeStrategySpecs;
   if (edges && edgeStrategiesApart) {
-    generateSpecs.assign(gpu::kEdgeStrategyCount, spec);
+    generateSpecs.front()[gpu::kSpecEdgeStrategy] = gpu::kEdgeSortSamples;
+    edgeStrategySpecs.assign(gpu::kEdgeStrategyCount, spec);
     for (uint32_t strategy = 0; strategy < gpu::kEdgeStrategyCount; ++strategy)
-      generateSpecs[strategy][gpu::kSpecEdgeStrategy] = strategy;
+      edgeStrategySpecs[strategy][gpu::kSpecEdgeStrategy] = strategy;
   }
   // Created together (in parallel on a GPU): on a driver that compiles at creation this is most of
   // a short render's start-up.
   std::vector<std::pair<std::string, SpecValues>> passes;
   for (const SpecValues& s : generateSpecs) passes.push_back({generateName, s});
+  for (const SpecValues& s : edgeStrategySpecs) passes.push_back({generateName, s});
   passes.insert(passes.end(), {{"intersect_closest", spec}, {shadeName, spec}, {shadowName, spec}, {"set_dispatch_args", spec}});
   if (!finishName.empty()) passes.push_back({finishName, spec});
   if (adjointImage) passes.push_back({"accumulate", spec});
@@ -446,6 +449,8 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   pipelines.prepare(passes);
   std::vector<VkPipeline> generate;
   for (const SpecValues& s : generateSpecs) generate.push_back(pipelines.get(generateName, s));
+  std::vector<VkPipeline> edgeStrategies;
+  for (const SpecValues& s : edgeStrategySpecs) edgeStrategies.push_back(pipelines.get(generateName, s));
   VkPipeline intersect = pipelines.get("intersect_closest", spec);
   VkPipeline shade = pipelines.get(shadeName, spec);
   VkPipeline shadow = pipelines.get(shadowName, spec);
@@ -457,9 +462,9 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   VkDescriptorSet ds = set.get();
 
   const uint32_t maxDepth = settings.maxDepth;
-  // + resolve in the last batch, + 2 when the edges are sampled a strategy at a time, + 1 for an
+  // + resolve in the last batch, + 6 when the edges are sampled a strategy at a time, + 1 for an
   // adjoint render's image
-  PassProfiler profiler(context, 12 + 6 * maxDepth, options.profile);
+  PassProfiler profiler(context, 16 + 6 * maxDepth, options.profile);
   CommandBuffer cmdBuffer(context, "render batch");
   VkCommandBuffer cmd = cmdBuffer.get();
 
@@ -541,9 +546,21 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
     vkCmdFillBuffer(cmd, wave.pathAccum.handle(), 0, VK_WHOLE_SIZE, 0);
     // Shadow-slot masks: trace_shadow_rays clears what it visits; a fresh batch starts clear.
     vkCmdFillBuffer(cmd, wave.rayQueues.handle(), 3ull * batchSize * sizeof(uint32_t), uint64_t(batchSize) * sizeof(uint32_t), 0);
+    if (!edgeStrategies.empty())
+      vkCmdFillBuffer(cmd, wave.counters.handle(), gpu::kCounterEdgeQueues * sizeof(uint32_t),
+                      gpu::kEdgeStrategyCount * sizeof(uint32_t), 0);
     computeBarrier(cmd);
     pushArgs(cmd, layout, splat ? uint32_t(done) : firstLinear, firstSample, 0, active);
     for (VkPipeline pipeline : generate) dispatch(generateName.c_str(), pipeline, groupsFor(active));
+    // Each edge strategy over the samples the first step queued for it.
+    static constexpr const char* kStrategyPassNames[] = {"sample_edges_primary", "sample_edges_to_light",
+                                                         "sample_edges_secondary"};
+    for (uint32_t strategy = 0; strategy < edgeStrategies.size(); ++strategy) {
+      pushArgs(cmd, layout, gpu::kCounterEdgeQueues + strategy, gpu::kArgsRays, gpu::kCounterCount, 0);
+      dispatch("set_dispatch_args", setArgs, 1);
+      pushArgs(cmd, layout, uint32_t(done), firstSample, 0, active);
+      dispatchIndirect(kStrategyPassNames[strategy], edgeStrategies[strategy], gpu::kArgsRays);
+    }
     // connect_camera_boundary queues complete connections: no rays to extend.
     if (fromCamera) traceShadowRays();
     for (uint32_t depth = 0; depth < (fromCamera ? 0 : maxDepth); ++depth) {

@@ -69,7 +69,8 @@ VKTG_CONST(uint, kCounterEllipsoidEmpty, 10);  // queries whose shell met no sur
 VKTG_CONST(uint, kCounterEdgeSilhouettes, 11);  // edge samples whose direction made the edge a silhouette
 VKTG_CONST(uint, kCounterEdgeConnected, 12);    // ... whose boundary segment also reached the camera
 VKTG_CONST(uint, kCounterGradientOverflow, 13);  // adjoint scatters beyond the int64 range (the scale was too fine)
-VKTG_CONST(uint, kCounterCount, 16);
+VKTG_CONST(uint, kCounterEdgeQueues, 14);  // 14..16: edge samples queued for each strategy (sample_edges)
+VKTG_CONST(uint, kCounterCount, 17);
 
 // Indices of VkDispatchIndirectCommand records in the dispatch-args buffer.
 VKTG_CONST(uint, kArgsRays, 0);
@@ -182,7 +183,7 @@ VKTG_CONST(uint, kSpecWaveTexels, 13);   // 1: path-state and hit loads through 
 VKTG_CONST(uint, kSpecWideBvh, 14);      // 1: closest- and any-hit traversal over the 4-wide BVH
 VKTG_CONST(uint, kSpecMultiView, 15);    // 1: several views in one render (FrameUniforms.viewInfo, lib/view.glsl)
 VKTG_CONST(uint, kSpecFilledSlotsOnly, 16);  // 1: trace_shadow_rays loops over a path's filled slots only (CPU devices)
-VKTG_CONST(uint, kSpecEdgeStrategy, 17);     // sample_edges: the one strategy this pipeline runs, or kEdgeStrategyCount: all
+VKTG_CONST(uint, kSpecEdgeStrategy, 17);     // sample_edges: the strategy whose queue it runs, kEdgeSortSamples, or kEdgeStrategyCount: all samples, every strategy
 VKTG_CONST(uint, kSpecScatterAggregate, 18);  // 1: adjoint scatters sum a subgroup's adds to one accumulator first (GPUs)
 VKTG_CONST(uint, kSpecCount, 19);
 
@@ -191,6 +192,7 @@ VKTG_CONST(uint, kEdgeStrategyPrimary, 0);
 VKTG_CONST(uint, kEdgeStrategyToLight, 1);
 VKTG_CONST(uint, kEdgeStrategySecondary, 2);
 VKTG_CONST(uint, kEdgeStrategyCount, 3);
+VKTG_CONST(uint, kEdgeSortSamples, 4);  // sample_edges' first step: empty slots, and a queue per strategy
 
 // How an ellipsoidal connection chooses its triangle (shaders/lib/ellipsoid.glsl).
 VKTG_CONST(uint, kEllipsoidDescend, 0);    // stochastic BVH descent: cost logarithmic in triangles
