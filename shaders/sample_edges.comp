@@ -56,11 +56,11 @@ const uint kRngDimEdgeWalk = 8u;  // + walk step: the camera side's numbers (str
 // it by strategy, then one dispatch per strategy runs over its queue (kCounterEdgeQueues). In one
 // pipeline the three took an H100 1.7 times as long as apart, about as long as the primary strategy
 // alone takes for every sample: a pipeline is compiled for its heaviest code, and the primary
-// strategy's appears to limit how many invocations the GPU holds at once. On lavapipe a pipeline
-// pays for its code even in invocations that leave before it: the pass took 140 ms where every
-// invocation left after giving out its slots, against 20 ms with the rest compiled out
-// (docs/benchmarks.md, "On a GPU: NVIDIA H100" and "What the 3× goal at 121 heights would take"),
-// so there each strategy's code must see only its own samples. Each sample takes the same path
+// strategy's appears to limit how many invocations the GPU holds at once. On lavapipe this pass
+// paid for its code even in invocations that left before reaching it: 140 ms where every
+// invocation left after clearing its slots, against 20 ms with the rest compiled out (the same
+// experiment costs connect_camera_boundary nothing; docs/benchmarks.md, "On a GPU: NVIDIA H100" and
+// "What the 3× goal at 121 heights would take"), so each strategy's code sees only its own samples. Each sample takes the same path
 // whichever way it is dispatched (VKTG_EDGE_DISPATCH=single: one pipeline for all, over all).
 const uint kEdgeStrategyBlock = 32u, kEdgeStrategyCycle = 20u;
 const uint kPrimaryBlocks = 7u, kToLightBlocks = 9u;
