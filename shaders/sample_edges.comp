@@ -23,9 +23,10 @@
 // from which accumulate_splats (forward lanes: the factor -v_n, +v_n on the occluded side) or
 // scatter_edges (the adjoint) finish the slot once its light side is known.
 // Reads: edges and their faces, scene BVH, camera. Writes: paths[2i, 2i+1], hits, ray queue 0,
-// edge records, edge counters; the first step the strategies' queues. Dispatch: ceil(edge samples of the batch / kWorkgroupSize) for the first step
-// (or for all strategies in one), then indirect over each strategy's queue (below); push.args: x
-// first edge sample of the batch, w samples in the batch.
+// edge records, edge counters; the first step the strategies' queues. Dispatch: ceil(edge samples
+// of the batch / kWorkgroupSize) for the first step (or for all strategies in one), then indirect
+// over each strategy's queue (below); push.args: x first edge sample of the batch, w samples in
+// the batch.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
@@ -59,9 +60,10 @@ const uint kRngDimEdgeWalk = 8u;  // + walk step: the camera side's numbers (str
 // strategy's appears to limit how many invocations the GPU holds at once. On lavapipe this pass
 // paid for its code even in invocations that left before reaching it: 140 ms where every
 // invocation left after clearing its slots, against 20 ms with the rest compiled out (the same
-// experiment costs connect_camera_boundary nothing; docs/benchmarks.md, "On a GPU: NVIDIA H100" and
-// "What the 3× goal at 121 heights would take"), so each strategy's code sees only its own samples. Each sample takes the same path
-// whichever way it is dispatched (VKTG_EDGE_DISPATCH=single: one pipeline for all, over all).
+// experiment costs connect_camera_boundary nothing; docs/benchmarks.md, "On a GPU: NVIDIA H100"
+// and "What the 3× goal at 121 heights would take"), so each strategy's code sees only its own
+// samples. Each sample takes the same path whichever way it is dispatched
+// (VKTG_EDGE_DISPATCH=single: one pipeline for all strategies, over every sample).
 const uint kEdgeStrategyBlock = 32u, kEdgeStrategyCycle = 20u;
 const uint kPrimaryBlocks = 7u, kToLightBlocks = 9u;
 const float kPrimaryProbability = float(kPrimaryBlocks) / float(kEdgeStrategyCycle);
@@ -389,7 +391,9 @@ void main() {
   uint strategy = kSpecEdgeStrategyValue < kEdgeStrategyCount ? kSpecEdgeStrategyValue : edgeStrategy(sampleIndex);
   if (kSpecEdgeStrategyValue == kEdgeSortSamples) {
     clearSlots(i, sampleIndex);
-    if (frame.edgeInfo.x != 0u) rayQueues[edgeQueueEntry(strategy, atomicAdd(counters[kCounterEdgeQueues + strategy], 1u))] = i;
+    if (frame.edgeInfo.x == 0u) return;
+    uint entry = atomicAdd(counters[kCounterEdgeQueues + strategy], 1u);
+    rayQueues[edgeQueueEntry(strategy, entry)] = i;
     return;
   }
   if (kSpecEdgeStrategyValue == kEdgeStrategyCount) clearSlots(i, sampleIndex);
