@@ -167,6 +167,13 @@ bool traceBvh(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out fl
   return bvhFinishHit(found, anyHit, origin, dir, tBest, triHit, tHit);
 }
 
+// A closest-hit query's record: (t, u, v, triangle bits), or t = -1 for a miss.
+HitRecord closestHitRecord(bool found, float t, vec2 uv, uint triangle) {
+  HitRecord hit;
+  hit.tuvTriangle = found ? vec4(t, uv, uintBitsToFloat(triangle)) : vec4(-1.0, 0.0, 0.0, uintBitsToFloat(0u));
+  return hit;
+}
+
 // Closest hit in (tMin, tMax); tMin must be >= 0 (a miss is reported as t = -1).
 // hit.tuvTriangle = (t, u, v, uintBitsToFloat(triangle in leaf order)).
 bool traceClosest(vec3 origin, vec3 dir, float tMin, float tMax, out HitRecord hit) {
@@ -174,7 +181,7 @@ bool traceClosest(vec3 origin, vec3 dir, float tMin, float tMax, out HitRecord h
   vec2 uv;
   uint tri;
   bool found = traceBvh(origin, dir, tMin, tMax, false, t, uv, tri);
-  hit.tuvTriangle = found ? vec4(t, uv, uintBitsToFloat(tri)) : vec4(-1.0, 0.0, 0.0, uintBitsToFloat(0u));
+  hit = closestHitRecord(found, t, uv, tri);
   return found;
 }
 
@@ -193,7 +200,7 @@ bool closestOfTriangles(uvec2 triangles, vec3 origin, vec3 dir, float tMin, floa
       bvhTestLeaf(triangles[i], 1u, origin, dir, invDir, axes, tMin, tMax, false, found, tBest, uv, tri);
   float t;
   found = bvhFinishHit(found, false, origin, dir, tBest, tri, t);
-  hit.tuvTriangle = found ? vec4(t, uv, uintBitsToFloat(tri)) : vec4(-1.0, 0.0, 0.0, uintBitsToFloat(0u));
+  hit = closestHitRecord(found, t, uv, tri);
   return found;
 }
 
