@@ -53,7 +53,19 @@ std::vector<EllipsoidSampleIn> makeInputs(size_t n, uint32_t seed, double fixedS
   return planeAndTiltedInputs(n, seed, [fixedS](std::mt19937&) { return float(fixedS); });
 }
 
-TEST(StatEllipsoidDescent, TriangleChoiceChiSquare) {
+// Input i's stratified number: point i of a golden-ratio sequence shifted by `shift`, as
+// rng.glsl's stratifiedUnit draws it.
+void stratify(std::vector<EllipsoidSampleIn>& in, double shift) {
+  const double golden = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (size_t i = 0; i < in.size(); ++i)
+    in[i].line = std::min(float(std::fmod(shift + double(i) * golden, 1.0)), 0.99999994f);
+}
+
+// How often each triangle of a 48-triangle tree is chosen at each length (and how often a descent
+// ends empty), against the CPU twin's probabilities, by chi-square; `stratified`: the choices
+// inverting one stratified number per sample. Its counts are closer to the expected ones than
+// independent draws', which the chi-square test accepts as readily; wrong probabilities it rejects.
+void expectTriangleChoicesFollowTheTree(bool stratified) {
   Scene scene = tessellatedScene(2);  // 48 triangles
   LeafOrder leaf = leafOrder(scene);
   const size_t triangles = leaf.triangles.size();
@@ -67,6 +79,7 @@ TEST(StatEllipsoidDescent, TriangleChoiceChiSquare) {
   for (double s : lengths) {
     const size_t n = 100000;
     auto in = makeInputs(n, 17 + uint32_t(s * 10), s);
+    if (stratified) stratify(in, 0.1 * s);
     auto out = runKernel<EllipsoidSampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidDescend);
     // Cells: one per leaf triangle, the last one the descents that ended empty.
     std::vector<double> observed(triangles + 1, 0.0), expected(triangles + 1, 0.0);
@@ -95,11 +108,16 @@ TEST(StatEllipsoidDescent, TriangleChoiceChiSquare) {
       return c == triangles ? std::string("empty") : "triangle " + std::to_string(c);
     });
     EXPECT_TRUE(r.passed) << "s' = " << s << "\n" << r.report;
-    std::printf("s' = %.2f: %zu triangles can be chosen, %.2f%% of descents end empty, p = %.3g\n", s,
+    std::printf("%s s' = %.2f: %zu triangles can be chosen, %.2f%% of descents end empty, p = %.3g\n",
+                stratified ? "stratified" : "independent", s,
                 size_t(std::count_if(expected.begin(), expected.end() - 1, [](double e) { return e > 0.0; })),
                 100.0 * observed[triangles] / n, r.pValue);
   }
 }
+
+TEST(StatEllipsoidDescent, TriangleChoiceChiSquare) { expectTriangleChoicesFollowTheTree(false); }
+
+TEST(StatEllipsoidDescent, StratifiedTriangleChoiceChiSquare) { expectTriangleChoicesFollowTheTree(true); }
 
 // d/ds' Area{L <= s'} of the coarse surfaces by quadrature, error from halving the step and doubling rows.
 struct Reference {
@@ -142,6 +160,47 @@ TEST(StatEllipsoidDescent, MeanWeightIsAreaDerivative) {
       std::printf("%s s'=%.1f: mean %.6g, reference %.6g, relative se %.3g\n",
                   selection == gpu::kEllipsoidDescend ? "descend  " : "enumerate", s, mean, ref.value, se / mean);
     }
+  }
+}
+
+// Stratified numbers keep the mean weight (the area derivative) and spread the samples along the
+// whole curve: the means of 64 runs of consecutive samples, each itself a stratified set, vary far
+// less than independent samples' would (their variance against the variance of one weight over
+// the run's length). 3072 triangles: a tree deep enough that the number runs out of bits on some
+// descents and the hash finishes them.
+TEST(StatEllipsoidDescent, StratifiedMeanWeightIsAreaDerivativeWithLessVariance) {
+  Scene scene = tessellatedScene(5);
+  for (double s : {2.2, 2.9, 3.1}) {
+    const size_t n = 1 << 17, runs = 64, perRun = n / runs;
+    auto in = makeInputs(n, 9 + uint32_t(s * 10), s);
+    stratify(in, 0.37);
+    auto out = runKernel<EllipsoidSampleOut>("ellipsoid_sample", in, n, uint32_t(n), &scene, gpu::kEllipsoidDescend);
+    double sum = 0.0, sq = 0.0;
+    std::vector<double> runMeans(runs, 0.0);
+    size_t mismatch = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const EllipsoidSampleOut& o = out[i];
+      ASSERT_TRUE(std::isfinite(o.weight));
+      double w = o.ok ? o.weight : 0.0;
+      sum += w;
+      sq += w * w;
+      runMeans[i / perRun] += w / perRun;
+      if (o.ok && !(std::abs(double(o.density) * o.weight - 1.0) < 1e-4)) ++mismatch;
+    }
+    EXPECT_EQ(mismatch, 0u) << "ellipsoidConnectionDensity != 1 / weight";
+    const double mean = sum / n, variance = std::max(sq / n - mean * mean, 0.0);
+    double spread = 0.0;
+    for (double m : runMeans) spread += (m - mean) * (m - mean) / (runs - 1);
+    // The independent samples' standard error bounds a stratified mean's (its error is smaller).
+    const double se = std::sqrt(variance / (n - 1));
+    Reference ref = areaDerivative(double(in[0].s));
+    const double tol = 4.5 * se + 2.0 * ref.error + 256.0 * std::ldexp(1.0, -24) * ref.value;
+    EXPECT_NEAR(mean, ref.value, tol) << "s' = " << s;
+    const double ratio = spread / (variance / perRun);
+    std::printf("stratified s'=%.1f: mean %.6g, reference %.6g; a run's mean varies %.3gx as much as independent "
+                "samples'\n", s, mean, ref.value, ratio);
+    // Independent samples: 1 (from 63 degrees of freedom, below 0.6 with probability 1e-3).
+    EXPECT_LT(ratio, 0.2) << "s' = " << s;
   }
 }
 

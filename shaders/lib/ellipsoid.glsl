@@ -26,6 +26,15 @@
 //       triangle, or the k-th candidate of the enumeration's reservoir) uses
 //       hash4(bits(u.x), bits(u.z), k, bits(u.w)) (lib/rng.glsl), so decisions are independent of
 //       each other and of phi for any scene size (a re-scaled single uniform would run out of bits).
+//   bool sampleEllipsoidConnectionStratified(vec3 f1, vec3 f2, float sPrime, vec4 u, float line,
+//                                            out EllipsoidSample es);
+//       The same choice with the same probabilities, made by inversion of one uniform `line` (in
+//       [0, 1); < 0: as above) while it has bits left: each decision takes the share of [0, 1)
+//       its probability gives it and rescales `line` to [0, 1) within that share, and phi is what
+//       is left. Samples whose `line` values are stratified (rng.glsl stratifiedUnit) are then
+//       stratified along the whole curve the shell cuts from the scene, in tree order. Once the
+//       decisions so far have probability below kLineMinShare the number has under 12 bits left,
+//       and the hash decides the rest and u.y phi.
 //   float ellipsoidConnectionDensity(vec3 f1, vec3 f2, float sPrime, uint triangle, vec3 position);
 //       1 / weight of the sample that lands at `position` on `triangle` (0 if it cannot be chosen).
 //       Descent: walks the one root-to-leaf path holding `triangle` (interior nodes store where
@@ -58,6 +67,27 @@ const uint kEllipseMaxArcs = 3u;
 const uint kEllipseWeightNodes = 4u;
 const uint kEllipsoidStackSize = 64u;
 const float kTwoPi = 6.28318530717958647692;
+const float kLineMinShare = 1.0 / 4096.0;
+
+// A uniform consumed decision by decision (sampleEllipsoidConnectionStratified): u < 0 once it is
+// spent or when there is none; share: the probability of the decisions it has made.
+struct LineDraw {
+  float u, share;
+};
+LineDraw noLineDraw() { return LineDraw(-1.0, 1.0); }
+
+// A decision with probability weight / total of true, by the line's number or else by `xi`; the
+// line's number is rescaled to be uniform again given the outcome.
+bool decideAlongLine(float weight, float total, float xi, inout LineDraw line) {
+  if (line.u < 0.0) return xi * total < weight;
+  float p = weight / total;
+  bool taken = line.u < p;
+  float share = taken ? p : 1.0 - p;
+  line.u = min((taken ? line.u : line.u - p) / share, 0.99999994);
+  line.share *= share;
+  if (line.share < kLineMinShare) line.u = -1.0;
+  return taken;
+}
 
 struct EllipseArcs {
   vec3 origin;      // p0 of the triangle; the ellipse below is relative to it
@@ -340,7 +370,7 @@ bool ellipsoidBoxMeetsShell(vec3 lo, vec3 hi, vec3 f1, vec3 f2, float sPrime) {
 // One traversal over every triangle the shell meets. Returns sum(w). With `pick`, keeps one
 // triangle with probability w_t / sum(w) (weighted reservoir, decisions from hash4(key with z =
 // candidate counter)); otherwise records the arcs of triangle `target`. The result is in `chosen`.
-float ellipsoidTraverse(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, uint target,
+float ellipsoidTraverse(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, inout LineDraw line, uint target,
                         out EllipseArcs chosen, out uint chosenTriangle) {
   chosenTriangle = 0xffffffffu;
   chosen.count = 0u;
@@ -365,7 +395,7 @@ float ellipsoidTraverse(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, ui
         if (pick) {
           float xi = bitsToUnit(hash4(uvec4(key.x, key.y, candidate, key.w)).x);
           ++candidate;
-          if (xi * sum < arcs.weight) { chosen = arcs; chosenTriangle = i; }
+          if (decideAlongLine(arcs.weight, sum, xi, line)) { chosen = arcs; chosenTriangle = i; }
         } else if (i == target) {
           chosen = arcs;
           chosenTriangle = i;
@@ -405,7 +435,7 @@ float ellipsoidBoxImportance(vec3 lo, vec3 hi, vec3 f1, vec3 f2, float sPrime) {
 // `decision` + k of the key), or (pick false) the arcs of `target`. Returns the probability of
 // the choice (0 when the shell meets nothing there).
 float ellipsoidLeafChoice(GpuBvhNode node, vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, uint decision,
-                          uint target, out EllipseArcs chosen, out uint chosenTriangle) {
+                          inout LineDraw line, uint target, out EllipseArcs chosen, out uint chosenTriangle) {
   chosenTriangle = 0xffffffffu;
   chosen.count = 0u;
   chosen.total = 0.0;
@@ -418,7 +448,8 @@ float ellipsoidLeafChoice(GpuBvhNode node, vec3 f1, vec3 f2, float sPrime, bool 
     EllipseArcs arcs;
     if (!ellipseOnTriangle(f1, f2, sPrime, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, arcs)) continue;
     sum += arcs.weight;
-    bool take = pick ? bitsToUnit(hash4(uvec4(key.x, key.y, decision++, key.w)).x) * sum < arcs.weight : i == target;
+    float xi = bitsToUnit(hash4(uvec4(key.x, key.y, decision++, key.w)).x);
+    bool take = pick ? decideAlongLine(arcs.weight, sum, xi, line) : i == target;
     if (take) {
       chosen = arcs;
       chosenTriangle = i;
@@ -429,8 +460,8 @@ float ellipsoidLeafChoice(GpuBvhNode node, vec3 f1, vec3 f2, float sPrime, bool 
 
 // Stochastic descent (pick) or the probability of reaching `target` (pick false): returns the
 // probability of the root-to-leaf choices times the leaf choice, 0 when it ends empty.
-float ellipsoidDescend(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, uint target, out EllipseArcs chosen,
-                       out uint chosenTriangle) {
+float ellipsoidDescend(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, inout LineDraw line, uint target,
+                       out EllipseArcs chosen, out uint chosenTriangle) {
   chosenTriangle = 0xffffffffu;
   chosen.count = 0u;
   chosen.total = 0.0;
@@ -442,12 +473,13 @@ float ellipsoidDescend(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, uin
   for (uint level = 0u; level < kEllipsoidStackSize; ++level) {
     GpuBvhNode node = loadBvhNode(index);
     if (floatBitsToUint(node.rightMinCount.w) > 0u)
-      return probability * ellipsoidLeafChoice(node, f1, f2, sPrime, pick, key, level, target, chosen, chosenTriangle);
+      return probability *
+             ellipsoidLeafChoice(node, f1, f2, sPrime, pick, key, level, line, target, chosen, chosenTriangle);
     float left = ellipsoidBoxImportance(node.leftMinLeftIndex.xyz, node.leftMaxRightIndex.xyz, f1, f2, sPrime);
     float right = ellipsoidBoxImportance(node.rightMinCount.xyz, node.rightMaxFirst.xyz, f1, f2, sPrime);
     float total = left + right;
     if (!(total > 0.0)) return 0.0;
-    bool goRight = pick ? bitsToUnit(hash4(uvec4(key.x, key.y, level, key.w)).x) * total >= left
+    bool goRight = pick ? !decideAlongLine(left, total, bitsToUnit(hash4(uvec4(key.x, key.y, level, key.w)).x), line)
                         : target >= floatBitsToUint(node.rightMaxFirst.w);
     float share = goRight ? right : left;
     if (!(share > 0.0)) return 0.0;
@@ -458,15 +490,15 @@ float ellipsoidDescend(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, uin
 }
 
 // The chosen triangle's arcs and the probability of choosing it, by the specialised selection.
-float ellipsoidChooseTriangle(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, uint target,
+float ellipsoidChooseTriangle(vec3 f1, vec3 f2, float sPrime, bool pick, uvec4 key, inout LineDraw line, uint target,
                               out EllipseArcs chosen, out uint chosenTriangle) {
   if (kSpecEllipsoidSelectionValue == kEllipsoidDescend)
-    return ellipsoidDescend(f1, f2, sPrime, pick, key, target, chosen, chosenTriangle);
-  float sum = ellipsoidTraverse(f1, f2, sPrime, pick, key, target, chosen, chosenTriangle);
+    return ellipsoidDescend(f1, f2, sPrime, pick, key, line, target, chosen, chosenTriangle);
+  float sum = ellipsoidTraverse(f1, f2, sPrime, pick, key, line, target, chosen, chosenTriangle);
   return chosenTriangle != 0xffffffffu && sum > 0.0 ? chosen.weight / sum : 0.0;
 }
 
-bool sampleEllipsoidConnection(vec3 f1, vec3 f2, float sPrime, vec4 u, out EllipsoidSample es) {
+bool sampleEllipsoidConnectionStratified(vec3 f1, vec3 f2, float sPrime, vec4 u, float lineU, out EllipsoidSample es) {
   es.position = vec3(0.0);
   es.triangle = 0xffffffffu;
   es.barycentrics = vec2(0.0);
@@ -474,9 +506,10 @@ bool sampleEllipsoidConnection(vec3 f1, vec3 f2, float sPrime, vec4 u, out Ellip
   EllipseArcs arcs;
   uint tri;
   uvec4 key = uvec4(floatBitsToUint(u.x), floatBitsToUint(u.z), 0u, floatBitsToUint(u.w));
-  float probability = ellipsoidChooseTriangle(f1, f2, sPrime, true, key, 0u, arcs, tri);
+  LineDraw line = LineDraw(lineU, 1.0);
+  float probability = ellipsoidChooseTriangle(f1, f2, sPrime, true, key, line, 0u, arcs, tri);
   if (tri == 0xffffffffu || !(probability > 0.0)) return false;
-  float phi = ellipseArcPhi(arcs, u.y);
+  float phi = ellipseArcPhi(arcs, line.u >= 0.0 ? line.u : u.y);
   es.position = ellipsePoint(arcs, phi);
   es.triangle = tri;
   es.barycentrics = ellipseBarycentrics(arcs, phi);
@@ -486,10 +519,15 @@ bool sampleEllipsoidConnection(vec3 f1, vec3 f2, float sPrime, vec4 u, out Ellip
   return true;
 }
 
+bool sampleEllipsoidConnection(vec3 f1, vec3 f2, float sPrime, vec4 u, out EllipsoidSample es) {
+  return sampleEllipsoidConnectionStratified(f1, f2, sPrime, u, -1.0, es);
+}
+
 float ellipsoidConnectionDensity(vec3 f1, vec3 f2, float sPrime, uint triangle, vec3 position) {
   EllipseArcs arcs;
   uint tri;
-  float probability = ellipsoidChooseTriangle(f1, f2, sPrime, false, uvec4(0u), triangle, arcs, tri);
+  LineDraw none = noLineDraw();
+  float probability = ellipsoidChooseTriangle(f1, f2, sPrime, false, uvec4(0u), none, triangle, arcs, tri);
   if (tri != triangle || !(probability > 0.0)) return 0.0;
   float density = probability / (arcs.total * ellipseCoareaRatio(arcs, f1, f2, position));
   return (density > 0.0 && !isinf(density)) ? density : 0.0;

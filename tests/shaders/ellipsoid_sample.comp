@@ -1,10 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Test kernel: sampleEllipsoidConnection against the bound scene, plus
+// Test kernel: sampleEllipsoidConnectionStratified against the bound scene, plus
 // ellipsoidConnectionDensity at the sample. In (12 words per invocation): f1, f2, s', u (4),
-// 1 unused. Out (20 words): 0 ok, 1 triangle (leaf order), 2-4 position, 5-6 barycentrics,
-// 7 weight, 8 density at the sample, 9-17 the chosen triangle's p0, p1, p2 (tests match the
-// triangle by its vertices, independent of the BVH order), 18-19 unused.
+// the stratified number (< 0: none, as sampleEllipsoidConnection). Out (20 words): 0 ok,
+// 1 triangle (leaf order), 2-4 position, 5-6 barycentrics, 7 weight, 8 density at the sample,
+// 9-17 the chosen triangle's p0, p1, p2 (tests match the triangle by its vertices, independent of
+// the BVH order), 18-19 unused.
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "test_io.glsl"
@@ -25,7 +26,7 @@ void main() {
   float s = inF(ib + 6u);
   vec4 u = vec4(inF(ib + 7u), inF(ib + 8u), inF(ib + 9u), inF(ib + 10u));
   EllipsoidSample es;
-  bool ok = sampleEllipsoidConnection(f1, f2, s, u, es);
+  bool ok = sampleEllipsoidConnectionStratified(f1, f2, s, u, inF(ib + 11u), es);
   testOut[ob] = ok ? 1u : 0u;
   testOut[ob + 1u] = es.triangle;
   outF(ob + 2u, es.position.x);

@@ -14,7 +14,7 @@ std::vector<EllipsoidSampleIn> ellipsoidInputs(size_t n, uint32_t seed, dvec3 f1
     }
     x.s = length(rng);
     for (float& u : x.u) u = unit(rng);
-    x.pad = 0.0f;
+    x.line = -1.0f;
   }
   return in;
 }

@@ -11,9 +11,10 @@
 
 namespace vktg::test {
 
-// One invocation of ellipsoid_sample: foci, s', the four uniforms.
+// One invocation of ellipsoid_sample: foci, s', the four uniforms, and the stratified number the
+// choices invert (sampleEllipsoidConnectionStratified; -1: none, as sampleEllipsoidConnection).
 struct EllipsoidSampleIn {
-  float f1[3], f2[3], s, u[4], pad;
+  float f1[3], f2[3], s, u[4], line;
 };
 // Its result: success, leaf-order triangle, point, barycentrics, weight, density at the point, and
 // the triangle's vertices.
