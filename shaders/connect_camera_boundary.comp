@@ -44,10 +44,10 @@ layout(push_constant) uniform Push { PassPush push; };
 const float kDirectProbability = 0.25;
 
 // The connection c -> x1 -> y of total length s into slot `slot`.
-void connect(uint slot, vec3 c, LightSample ls, float s, uint jump, float weight, vec4 uEllipsoid) {
+void connect(uint slot, vec3 c, LightSample ls, float s, uint jump, float weight, vec4 uEllipsoid, float line) {
   atomicAdd(counters[kCounterEllipsoidQueries], 1u);
   EllipsoidSample es;
-  if (!sampleEllipsoidConnection(c, ls.position, s, uEllipsoid, es)) {
+  if (!sampleEllipsoidConnectionStratified(c, ls.position, s, uEllipsoid, line, es)) {
     atomicAdd(counters[kCounterEllipsoidEmpty], 1u);
     return;
   }
@@ -88,10 +88,10 @@ void connect(uint slot, vec3 c, LightSample ls, float s, uint jump, float weight
 // The path c -> y of length s, y on an emitter, into slot `slot`. The ellipsoid with both foci at c
 // and total length 2s is the sphere |y - c| = s; its co-area weight is for δ(2 (|y - c| - s)) =
 // δ(|y - c| - s) / 2, hence the factor 2.
-void connectDirect(uint slot, vec3 c, float s, uint jump, float weight, vec4 uEllipsoid) {
+void connectDirect(uint slot, vec3 c, float s, uint jump, float weight, vec4 uEllipsoid, float line) {
   atomicAdd(counters[kCounterEllipsoidQueries], 1u);
   EllipsoidSample es;
-  if (!sampleEllipsoidConnection(c, c, 2.0 * s, uEllipsoid, es)) {
+  if (!sampleEllipsoidConnectionStratified(c, c, 2.0 * s, uEllipsoid, line, es)) {
     atomicAdd(counters[kCounterEllipsoidEmpty], 1u);
     return;
   }
@@ -121,6 +121,17 @@ void connectDirect(uint slot, vec3 c, float s, uint jump, float weight, vec4 uEl
 #endif
 }
 
+// gateBoundaryJumps with the line's number picking the jump where it has one (then rescaled to be
+// uniform again given the jump), `uJump` otherwise.
+uint jumpsAlongLine(float reach, float uJump, inout LineDraw line, out uint first, out float weight) {
+  uint n = gateBoundaryJumps(reach, line.u >= 0.0 ? line.u : uJump, first, weight);
+  if (n == 1u && line.u >= 0.0) {
+    line.u = min(fract(line.u * weight), 0.99999994);  // weight: how many jumps it chose among
+    line.share /= weight;
+  }
+  return n;
+}
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= push.args.w) return;
@@ -137,21 +148,28 @@ void main() {
   Rng re = rngForBounce(kNoPixel, sampleIndex, 0u, kRngSlotEllipsoid, seed);
   vec3 c = cameraPosition();
   vec4 uGate = rngNext4(rg), uEllipsoid = rngNext4(re);
+  // The samples of a view share the sensor, and at a point light the light too, so their
+  // ellipsoids are one per jump: one stratified number per sample makes each choice in turn (the
+  // kind of path, the jump, then the point on the curve the jump's ellipsoid cuts from the scene),
+  // which spreads the samples evenly over all of them (docs/theory.md 3.7).
+  LineDraw line = noLineDraw();
+  const uint lineDimension = kRngDimBounceBase + kRngSlotEllipsoid;
+  if (kSpecStratifiedBoundaryValue != 0u) line.u = stratifiedUnit(sampleIndex, lineDimension, seed);
   bool twoSegments = kSpecCameraTypeValue == kCameraPerspective && frame.gateInfo.w >= 2u;
   bool direct = sceneHasLightType(kLightAreaTriangle);
   float pDirect = direct ? (twoSegments ? kDirectProbability : 1.0) : 0.0;
   uint first;
   float weight;
-  if (uGate.y < pDirect) {
-    uint n = gateBoundaryJumps(0.0, uGate.x, first, weight);
+  if (decideAlongLine(pDirect, 1.0, uGate.y, line)) {
+    uint n = jumpsAlongLine(0.0, uGate.x, line, first, weight);
     for (uint k = 0u; k < n; ++k)
-      connectDirect(2u * i + k, c, gateJumpLocation(first + k), first + k, weight / pDirect, uEllipsoid);
+      connectDirect(2u * i + k, c, gateJumpLocation(first + k), first + k, weight / pDirect, uEllipsoid, line.u);
     return;
   }
   if (!twoSegments) return;  // at a point sensor the per-pixel pass places two-segment paths
   LightSample ls;
   if (!sampleLight(rngNext4(rl).xyz, ls)) return;
-  uint n = gateBoundaryJumps(distance(c, ls.position), uGate.x, first, weight);
+  uint n = jumpsAlongLine(distance(c, ls.position), uGate.x, line, first, weight);
   for (uint k = 0u; k < n; ++k)
-    connect(2u * i + k, c, ls, gateJumpLocation(first + k), first + k, weight / (1.0 - pDirect), uEllipsoid);
+    connect(2u * i + k, c, ls, gateJumpLocation(first + k), first + k, weight / (1.0 - pDirect), uEllipsoid, line.u);
 }

@@ -70,13 +70,26 @@ const float kPrimaryProbability = float(kPrimaryBlocks) / float(kEdgeStrategyCyc
 const float kToLightProbability = float(kToLightBlocks) / float(kEdgeStrategyCycle);
 const float kSecondaryProbability = 1.0 - kPrimaryProbability - kToLightProbability;
 
-uint edgeStrategy(uint sampleIndex) {
+// The strategy of sample `sampleIndex`, and its place among that strategy's samples (counted from
+// the first block of its cycle: a constant off, which the stratified sequence's shift absorbs).
+uint edgeStrategy(uint sampleIndex, out uint place) {
   // The offset's stream: no edge sample has index 0xffffffff (a render holds fewer than 2^32).
   uint offset = hash4(uvec4(kNoPixel, 0xffffffffu, kRngDimCamera, viewSeed())).x % kEdgeStrategyCycle;
-  uint block = (sampleIndex / kEdgeStrategyBlock + offset) % kEdgeStrategyCycle;
-  return block < kPrimaryBlocks ? kEdgeStrategyPrimary
-         : block < kPrimaryBlocks + kToLightBlocks ? kEdgeStrategyToLight
-                                                   : kEdgeStrategySecondary;
+  uint block = sampleIndex / kEdgeStrategyBlock + offset;
+  uint cycle = block / kEdgeStrategyCycle, inCycle = block % kEdgeStrategyCycle;
+  uint strategy = kEdgeStrategySecondary, first = kPrimaryBlocks + kToLightBlocks;
+  if (inCycle < kPrimaryBlocks) {
+    strategy = kEdgeStrategyPrimary;
+    first = 0u;
+  } else if (inCycle < kPrimaryBlocks + kToLightBlocks) {
+    strategy = kEdgeStrategyToLight;
+    first = kPrimaryBlocks;
+  }
+  uint blocks = strategy == kEdgeStrategyPrimary ? kPrimaryBlocks
+                : strategy == kEdgeStrategyToLight ? kToLightBlocks
+                                                   : kEdgeStrategyCycle - kPrimaryBlocks - kToLightBlocks;
+  place = (cycle * blocks + inCycle - first) * kEdgeStrategyBlock + sampleIndex % kEdgeStrategyBlock;
+  return strategy;
 }
 
 // x_a at depth 1 behind a pinhole stays on its camera ray (the interior pass's parametrisation).
@@ -387,8 +400,10 @@ void main() {
   // Random numbers are keyed by the sample's index within its view.
   setViewOfSample(push.args.x + i);
   uint sampleIndex = viewSample(push.args.x + i);
+  uint place;
+  uint sampled = edgeStrategy(sampleIndex, place);
   // In a strategy's pipeline a constant: the other strategies' code is left out.
-  uint strategy = kSpecEdgeStrategyValue < kEdgeStrategyCount ? kSpecEdgeStrategyValue : edgeStrategy(sampleIndex);
+  uint strategy = kSpecEdgeStrategyValue < kEdgeStrategyCount ? kSpecEdgeStrategyValue : sampled;
   if (kSpecEdgeStrategyValue == kEdgeSortSamples) {
     clearSlots(i, sampleIndex);
     if (frame.edgeInfo.x == 0u) return;
@@ -400,9 +415,19 @@ void main() {
   if (frame.edgeInfo.x == 0u) return;
   Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimCamera, viewSeed());
   vec4 u = rngNext4(rng);
-  uint edge = selectEdge(u.x);
+  // Stratified (docs/theory.md 3.7): the edge and the point along it from one number of the
+  // strategy's own sequence, so a strategy's samples spread evenly over the length all edges
+  // share by their selection weights. Where that number falls within the edge's share of [0, 1)
+  // is uniform along the edge; its 2^-24 steps are 2^-24 / share there, which u.y fills in.
+  bool stratified = kSpecStratifiedBoundaryValue != 0u;
+  float uEdge = stratified ? stratifiedUnit(place, strategy, viewSeed()) : u.x;
+  uint edge = selectEdge(uEdge);
   GpuEdge e = edges[edge];
   float t = u.y;
+  if (stratified) {
+    float below = edge > 0u ? edges[edge - 1u].inward0.w : 0.0;
+    t = fract((uEdge - below + u.y * (1.0 / 16777216.0)) / (e.inward0.w - below));
+  }
   vec3 y = mix(e.p0.xyz, e.p1.xyz, t);
   float pY = e.inward1.w / distance(e.p0.xyz, e.p1.xyz);
   float offset = kEdgeOffsetEpsilons * frame.sceneInfo.x;

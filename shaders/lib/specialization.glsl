@@ -23,6 +23,7 @@ layout(constant_id = 15) const uint kSpecMultiViewValue = 0u;    // 1: several v
 layout(constant_id = 16) const uint kSpecFilledSlotsOnlyValue = 0u;  // 1: trace_shadow_rays skips empty slots
 layout(constant_id = 17) const uint kSpecEdgeStrategyValue = 3u;     // sample_edges: one strategy, or 3: all
 layout(constant_id = 18) const uint kSpecScatterAggregateValue = 0u;  // 1: lib/adjoint.glsl sums shared adds per subgroup
+layout(constant_id = 19) const uint kSpecStratifiedBoundaryValue = 1u;  // 1: stratified edge, camera samples
 
 bool sceneHasLightType(uint type) { return (kSpecLightMaskValue & (1u << type)) != 0u; }
 bool sceneHasMaterial(uint type) { return (kSpecMaterialMaskValue & (1u << type)) != 0u; }

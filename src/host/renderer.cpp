@@ -414,6 +414,11 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   // overrides (tests): the same bits either way. (Read by every render: a bad value is an error.)
   const bool aggregateScatter = forcedChoice("VKTG_SCATTER", "aggregate", "direct").value_or(!context.isCpuDevice());
   spec[gpu::kSpecScatterAggregate] = adjoint && aggregateScatter ? 1u : 0u;
+  // The edge samples and the camera's connections draw their main choice from one stratified
+  // sequence per render (rng.glsl stratifiedUnit; docs/theory.md 3.7). VKTG_BOUNDARY_SAMPLES=
+  // stratified|independent overrides (tests and benchmarks compare the two).
+  const bool stratified = forcedChoice("VKTG_BOUNDARY_SAMPLES", "stratified", "independent").value_or(true);
+  spec[gpu::kSpecStratifiedBoundary] = stratified ? 1u : 0u;
   // The derivative variants carry the lanes or the adjoint; passes without derivative work are
   // shared. The edge term's light sides are plain paths (sample_edges records the boundary).
   const std::string variant = edges ? "" : lanes > 0 ? "_d" : adjoint ? "_adj" : "";

@@ -185,7 +185,8 @@ VKTG_CONST(uint, kSpecMultiView, 15);    // 1: several views in one render (Fram
 VKTG_CONST(uint, kSpecFilledSlotsOnly, 16);  // 1: trace_shadow_rays loops over a path's filled slots only (CPU devices)
 VKTG_CONST(uint, kSpecEdgeStrategy, 17);     // sample_edges: the strategy whose queue it runs, kEdgeSortSamples, or kEdgeStrategyCount: all samples, every strategy
 VKTG_CONST(uint, kSpecScatterAggregate, 18);  // 1: adjoint scatters sum a subgroup's adds to one accumulator first (GPUs)
-VKTG_CONST(uint, kSpecCount, 19);
+VKTG_CONST(uint, kSpecStratifiedBoundary, 19);  // 1: edge and camera-connection samples stratified (rng.glsl)
+VKTG_CONST(uint, kSpecCount, 20);
 
 // sample_edges' strategies (its header): the camera's segment through the edge, a light's, a uniform direction.
 VKTG_CONST(uint, kEdgeStrategyPrimary, 0);
