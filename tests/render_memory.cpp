@@ -10,6 +10,7 @@
 // the growth was largest) with 12 seeds after a warm-up and bounds the growth of the resident set.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <string>
 #include <unistd.h>
@@ -20,6 +21,7 @@
 #include "support/gpu_context.h"
 #include "support/render_test.h"
 #include "support/scoped_env.h"
+#include "vktg/error.h"
 #include "vktg/parameters.h"
 
 namespace vktg::test {
@@ -93,6 +95,29 @@ TEST(RenderMemory, DefaultBudgetFollowsTheDevice) {
     EXPECT_LE(budget, 4096ull << 20);
     EXPECT_LE(budget, std::max<uint64_t>(512ull << 20, device / 4));
   }
+}
+
+// The budget (--mem, or the default) is what a render chooses to spend, its film and wavefront
+// state; the scene is the input's own size and counts against the device only. So a mesh larger
+// than the budget still renders (a million-height heightfield's scene and edge list take 547 MiB,
+// beyond a CPU device's default 512), with the budget left for the film and batches, while a film
+// beyond the budget is refused whatever the scene.
+TEST(RenderMemory, SceneCountsAgainstTheDeviceNotTheBudget) {
+  const VulkanContext& context = testContext();
+  const uint64_t device = context.report().deviceLocalBytes;
+  ASSERT_GT(device, 700ull << 20) << "the test needs a device that holds a 600 MiB scene";
+  RenderMemory need;
+  need.film = 1ull << 20;
+  need.smallestBatch = 1ull << 20;
+  need.scene = 600ull << 20;
+  need.filmShape = "test";
+  EXPECT_EQ(checkRenderMemory(context, need, 16ull << 20), 16ull << 20);
+  EXPECT_EQ(checkRenderMemory(context, need, 0), std::min(defaultMemoryBudget(context), device - need.scene));
+  need.film = 20ull << 20;
+  EXPECT_THROW(checkRenderMemory(context, need, 16ull << 20), Error);
+  need.film = 1ull << 20;
+  need.scene = device;
+  EXPECT_THROW(checkRenderMemory(context, need, 0), Error);
 }
 
 // Device memory that the host cannot read directly (unmapped, as VKTG_DEVICE_MEMORY=staged forces

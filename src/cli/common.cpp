@@ -13,7 +13,7 @@ namespace vktg::cli {
 std::vector<OptionSpec> deviceOptions() {
   return {{"--device", "D",
            "Vulkan device: index or name substring from `vktg info`, or gpu (default: $VKTG_DEVICE, else a GPU, else lavapipe)"},
-          {"--mem", "MIB", "memory budget for wavefront state and film in MiB (default 512 on a CPU device; on a GPU a quarter of its memory, 512 to 4096)"},
+          {"--mem", "MIB", "memory budget for film and wavefront state in MiB, the scene not counted (default 512 on a CPU device; on a GPU a quarter of its memory, 512 to 4096)"},
           {"--quiet", "", "no progress or summary on stderr"},
           {"--help", "", "show this help"}};
 }

@@ -40,10 +40,14 @@ uint64_t checkRenderMemory(const VulkanContext& context, const RenderMemory& nee
     throw Error("render: needs at least " + mib(need.total()) + " of device memory (" + breakdown(need) + ") but " +
                 context.report().name + " has " + mib(device) +
                 "; lower the resolution, the number of bins or the parameters per block");
-  if (need.total() > budget)
-    throw Error("--mem: " + mib(budget) + " cannot hold this render, which needs at least " + mib(need.total()) + " (" +
-                breakdown(need) + "); raise it");
-  return device > 0 ? std::min(budget, device) : budget;
+  // The budget is what the render may choose to spend: film and wavefront state. The scene is the
+  // input's own size, so it counts against the device only (a default budget must not refuse a
+  // large mesh that the device holds).
+  const uint64_t budgeted = need.film + need.smallestBatch;
+  if (budgeted > budget)
+    throw Error("--mem: " + mib(budget) + " cannot hold this render, which needs at least " + mib(budgeted) +
+                " for its film and wavefront state (" + breakdown(need) + "; the scene is not counted); raise it");
+  return device > 0 ? std::min(budget, device - need.scene) : budget;
 }
 
 }  // namespace vktg

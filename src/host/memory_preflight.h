@@ -31,9 +31,10 @@ RenderMemory filmAndBatchNeed(uint32_t width, uint32_t height, uint32_t layers, 
 // A CPU device gains nothing from batches beyond its few cores' reach and keeps memory for the host.
 uint64_t defaultMemoryBudget(const VulkanContext& context);
 
-// Throws vktg::Error when `need` exceeds the memory budget (--mem; 0: defaultMemoryBudget) or the device's device-local
-// memory, naming what it would take. Returns the budget to size batches from: the smaller of the
-// two.
+// Throws vktg::Error when the film and smallest batch of `need` exceed the memory budget (--mem; 0:
+// defaultMemoryBudget), or all of it (scene too) the device's device-local memory, naming what it
+// would take. Returns the budget to size the film and batches from: the smaller of the budget and
+// what the device holds beside the scene.
 uint64_t checkRenderMemory(const VulkanContext& context, const RenderMemory& need, uint64_t budget);
 
 }  // namespace vktg

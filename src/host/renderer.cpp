@@ -291,7 +291,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
   need.scene = gpuScene.bytes + edgeBytes;
   const uint64_t budget = checkRenderMemory(context, need, options.memoryBudget);
   ChunkedBuffer& film = m_impl->filmFor(filmFloats);
-  key.batchSize = batchSizeFor(budget - filmBytes - gpuScene.bytes - edgeBytes, layers, lanes,
+  key.batchSize = batchSizeFor(budget - filmBytes, layers, lanes,
                                context.properties().limits.maxStorageBufferRange, totalPaths * slotsPerSample,
                                context.properties().limits.maxComputeWorkGroupCount[0], extra);
   const uint32_t batchSize = key.batchSize;
