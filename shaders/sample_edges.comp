@@ -417,8 +417,10 @@ void main() {
   vec4 u = rngNext4(rng);
   // Stratified (docs/theory.md 3.7): the edge and the point along it from one number of the
   // strategy's own sequence, so a strategy's samples spread evenly over the length all edges
-  // share by their selection weights. Where that number falls within the edge's share of [0, 1)
-  // is uniform along the edge; its 2^-24 steps are 2^-24 / share there, which u.y fills in.
+  // share by their selection weights. The point is where that number falls within the edge's
+  // share of [0, 1), turned by one random amount for the whole render: the turn makes t uniform
+  // given the edge even where the number's 2^-24 steps are coarse against the share (millions of
+  // edges), and keeps the spacing of the samples on an edge.
   bool stratified = kSpecStratifiedBoundaryValue != 0u;
   float uEdge = stratified ? stratifiedUnit(place, strategy, viewSeed()) : u.x;
   uint edge = selectEdge(uEdge);
@@ -426,7 +428,8 @@ void main() {
   float t = u.y;
   if (stratified) {
     float below = edge > 0u ? edges[edge - 1u].inward0.w : 0.0;
-    t = fract((uEdge - below + u.y * (1.0 / 16777216.0)) / (e.inward0.w - below));
+    float turn = bitsToUnit(renderBits(kEdgeStrategyCount + strategy, viewSeed()));
+    t = fract((uEdge - below) / (e.inward0.w - below) + turn);
   }
   vec3 y = mix(e.p0.xyz, e.p1.xyz, t);
   float pY = e.inward1.w / distance(e.p0.xyz, e.p1.xyz);

@@ -50,13 +50,15 @@ Rng rngForBounce(uint pixel, uint sampleIndex, uint depth, uint slot, uint seed)
   return rngCreate(pixel, sampleIndex, kRngDimBounceBase + depth * kRngDimsPerBounce + slot, seed);
 }
 
+// One random number per render and `dimension`, the same for all its samples: the stream of
+// pixel ~0 and sample ~1, which no sample has.
+uint renderBits(uint dimension, uint seed) { return hash4(uvec4(0xffffffffu, 0xfffffffeu, dimension, seed)).x; }
+
 // Point `index` of a golden-ratio (Kronecker) sequence shifted at random: each point alone is
 // uniform on [0, 1) (the shift is), and any n consecutive points lie about 1/n apart, so an
 // estimate that sums the samples of one stream stratifies this dimension (randomised quasi-Monte
-// Carlo: unbiased, with the variance of a stratified estimate). The shift is keyed by the stream
-// (pixel ~0, sample ~1: no sample has that index) so it differs by dimension and seed only.
+// Carlo: unbiased, with the variance of a stratified estimate).
 float stratifiedUnit(uint index, uint dimension, uint seed) {
-  uint shift = hash4(uvec4(0xffffffffu, 0xfffffffeu, dimension, seed)).x;
-  return bitsToUnit(shift + index * 2654435769u);  // 2^32 (sqrt(5) - 1) / 2
+  return bitsToUnit(renderBits(dimension, seed) + index * 2654435769u);  // 2^32 (sqrt(5) - 1) / 2
 }
 #endif
