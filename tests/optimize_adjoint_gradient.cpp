@@ -10,12 +10,12 @@
 // path-length-boundary terms on one trace of the paths and on a trace each.
 #include <cmath>
 #include <cstdio>
-#include <random>
 
 #include <gtest/gtest.h>
 
 #include "host/gradient.h"
 #include "host/interrupt.h"
+#include "support/grad_test.h"
 #include "support/render_test.h"
 #include "support/room_scene.h"
 #include "support/scoped_env.h"
@@ -25,19 +25,9 @@
 namespace vktg {
 namespace {
 
-// A fixed adjoint image: deterministic values of both signs, so every pixel's derivative counts.
+// The adjoint image every test here contracts with (support/grad_test.h).
 ImageSet adjointImage(uint32_t width, uint32_t height, uint32_t layers) {
-  ImageSet a;
-  a.width = width;
-  a.height = height;
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  for (uint32_t l = 0; l < layers; ++l) {
-    ImageLayer layer;
-    for (uint32_t i = 0; i < width * height; ++i) layer.pixels.push_back(u(rng));
-    a.layers.push_back(layer);
-  }
-  return a;
+  return test::randomAdjointImage(width, height, layers, 11);
 }
 
 struct Contracted {

@@ -8,11 +8,11 @@
 // 12× and the camera connections' 5×).
 #include <cmath>
 #include <cstdio>
-#include <random>
 
 #include <gtest/gtest.h>
 
 #include "host/gradient.h"
+#include "support/grad_test.h"
 #include "support/render_test.h"
 #include "support/scoped_env.h"
 #include "vktg/parameter_model.h"
@@ -39,21 +39,6 @@ Scene heightfieldScene() {
   })", "stratified.json", ".");
 }
 
-// A fixed adjoint image of both signs, so that every pixel's derivative counts.
-ImageSet adjointImage(uint32_t width, uint32_t height, uint32_t layers) {
-  ImageSet a;
-  a.width = width;
-  a.height = height;
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  for (uint32_t l = 0; l < layers; ++l) {
-    ImageLayer layer;
-    for (uint32_t i = 0; i < width * height; ++i) layer.pixels.push_back(u(rng));
-    a.layers.push_back(layer);
-  }
-  return a;
-}
-
 // Per parameter, the mean of the gradients of `seeds` seeds and the variance of one.
 struct SeedStatistics {
   std::vector<double> mean, variance;
@@ -67,7 +52,7 @@ SeedStatistics gradientsOverSeeds(const char* samples, bool edges, uint32_t seed
   const ParameterModel model(scene, indices);
   const std::vector<double> theta(model.size(), 0.0);
   DeviceScene device(test::testRenderer().context(), model, theta, theta);
-  const ImageSet adjoint = adjointImage(scene.camera.width, scene.camera.height, scene.gate.layers());
+  const ImageSet adjoint = test::randomAdjointImage(scene.camera.width, scene.camera.height, scene.gate.layers(), 3);
   AdjointView view{RenderSetup::of(scene), {}, &adjoint};
   GradientOptions options;
   options.interior = false;

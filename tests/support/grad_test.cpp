@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <random>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -448,5 +449,19 @@ void checkLitPlane(MaterialType type, const std::vector<std::string>& parameters
 
 
 
+
+ImageSet randomAdjointImage(uint32_t width, uint32_t height, uint32_t layers, uint32_t seed) {
+  ImageSet a;
+  a.width = width;
+  a.height = height;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (uint32_t l = 0; l < layers; ++l) {
+    ImageLayer layer;
+    for (uint32_t i = 0; i < width * height; ++i) layer.pixels.push_back(u(rng));
+    a.layers.push_back(layer);
+  }
+  return a;
+}
 
 }  // namespace vktg::test

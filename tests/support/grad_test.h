@@ -116,4 +116,8 @@ void checkConfocal(NeeMode nee, uint32_t spp, uint32_t seed, uint32_t fdSpp);
 // with its finite difference, pixel by pixel.
 void checkLitPlane(MaterialType type, const std::vector<std::string>& parameters, uint32_t spp, uint32_t fdSpp);
 
+// A fixed adjoint image for loss-gradient tests: values in [-1, 1) drawn from `seed`, of both
+// signs, so that every pixel's derivative counts.
+ImageSet randomAdjointImage(uint32_t width, uint32_t height, uint32_t layers, uint32_t seed);
+
 }  // namespace vktg::test
