@@ -356,6 +356,12 @@ TEST_F(CliBadInput, UnknownEdgeDispatch) {
                      {{"VKTG_EDGE_DISPATCH", "apart"}});
 }
 
+// Read by every render, boundary terms or not.
+TEST_F(CliBadInput, UnknownBoundarySamples) {
+  expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_BOUNDARY_SAMPLES", "'sobol'"},
+                     {{"VKTG_BOUNDARY_SAMPLES", "sobol"}});
+}
+
 TEST_F(CliBadInput, UnknownPipelineCreation) {
   expectCleanFailure({"render", "--spp", "1", "--out", out()}, {"VKTG_PIPELINE_CREATION", "'threads'"},
                      {{"VKTG_PIPELINE_CREATION", "threads"}});

@@ -1,6 +1,7 @@
 // The environment variables through which tests and benchmarks force one of a device's two choices
 // (VKTG_SCENE_ACCESS, VKTG_BVH_WIDTH, VKTG_DEVICE_MEMORY, VKTG_SHADOW_SLOTS, VKTG_EDGE_DISPATCH,
-// VKTG_PIPELINE_CREATION, VKTG_SCATTER, VKTG_BOUNDARY_SAMPLES): the default follows the device.
+// VKTG_PIPELINE_CREATION, VKTG_SCATTER, VKTG_BOUNDARY_SAMPLES): the default follows the device, or
+// is the same on every device.
 #pragma once
 #include <cstdlib>
 #include <optional>
