@@ -125,10 +125,8 @@ void connectDirect(uint slot, vec3 c, float s, uint jump, float weight, vec4 uEl
 // uniform again given the jump), `uJump` otherwise.
 uint jumpsAlongLine(float reach, float uJump, inout LineDraw line, out uint first, out float weight) {
   uint n = gateBoundaryJumps(reach, line.u >= 0.0 ? line.u : uJump, first, weight);
-  if (n == 1u && line.u >= 0.0) {
-    line.u = min(fract(line.u * weight), 0.99999994);  // weight: how many jumps it chose among
-    line.share /= weight;
-  }
+  // weight: how many jumps it chose among, each taking an equal share of [0, 1)
+  if (n == 1u && line.u >= 0.0) narrowLine(min(floor(line.u * weight), weight - 1.0) / weight, 1.0 / weight, line);
   return n;
 }
 

@@ -77,17 +77,17 @@ uint edgeStrategy(uint sampleIndex, out uint place) {
   uint offset = hash4(uvec4(kNoPixel, 0xffffffffu, kRngDimCamera, viewSeed())).x % kEdgeStrategyCycle;
   uint block = sampleIndex / kEdgeStrategyBlock + offset;
   uint cycle = block / kEdgeStrategyCycle, inCycle = block % kEdgeStrategyCycle;
-  uint strategy = kEdgeStrategySecondary, first = kPrimaryBlocks + kToLightBlocks;
+  // The strategy's blocks are [first, first + blocks) of the cycle.
+  uint strategy = kEdgeStrategySecondary, first = kPrimaryBlocks + kToLightBlocks, blocks = kEdgeStrategyCycle - first;
   if (inCycle < kPrimaryBlocks) {
     strategy = kEdgeStrategyPrimary;
     first = 0u;
+    blocks = kPrimaryBlocks;
   } else if (inCycle < kPrimaryBlocks + kToLightBlocks) {
     strategy = kEdgeStrategyToLight;
     first = kPrimaryBlocks;
+    blocks = kToLightBlocks;
   }
-  uint blocks = strategy == kEdgeStrategyPrimary ? kPrimaryBlocks
-                : strategy == kEdgeStrategyToLight ? kToLightBlocks
-                                                   : kEdgeStrategyCycle - kPrimaryBlocks - kToLightBlocks;
   place = (cycle * blocks + inCycle - first) * kEdgeStrategyBlock + sampleIndex % kEdgeStrategyBlock;
   return strategy;
 }

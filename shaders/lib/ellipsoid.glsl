@@ -76,16 +76,20 @@ struct LineDraw {
 };
 LineDraw noLineDraw() { return LineDraw(-1.0, 1.0); }
 
-// A decision with probability weight / total of true, by the line's number or else by `xi`; the
-// line's number is rescaled to be uniform again given the outcome.
+// After a choice whose outcome took [start, start + share) of [0, 1): the line's number rescaled to
+// be uniform on [0, 1) again given that outcome, or spent once its choices are too improbable.
+void narrowLine(float start, float share, inout LineDraw line) {
+  line.u = clamp((line.u - start) / share, 0.0, 0.99999994);
+  line.share *= share;
+  if (line.share < kLineMinShare) line.u = -1.0;
+}
+
+// A decision with probability weight / total of true, by the line's number or else by `xi`.
 bool decideAlongLine(float weight, float total, float xi, inout LineDraw line) {
   if (line.u < 0.0) return xi * total < weight;
   float p = weight / total;
   bool taken = line.u < p;
-  float share = taken ? p : 1.0 - p;
-  line.u = min((taken ? line.u : line.u - p) / share, 0.99999994);
-  line.share *= share;
-  if (line.share < kLineMinShare) line.u = -1.0;
+  narrowLine(taken ? 0.0 : p, taken ? p : 1.0 - p, line);
   return taken;
 }
 
