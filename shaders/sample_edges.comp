@@ -414,22 +414,21 @@ void main() {
   if (kSpecEdgeStrategyValue == kEdgeStrategyCount) clearSlots(i, sampleIndex);
   if (frame.edgeInfo.x == 0u) return;
   Rng rng = rngCreate(kNoPixel, sampleIndex, kRngDimCamera, viewSeed());
-  vec4 u = rngNext4(rng);
+  uvec4 bits = rngNextBits4(rng);
   // Stratified (docs/theory.md 3.7): the edge and the point along it from one number of the
   // strategy's own sequence, so a strategy's samples spread evenly over the length all edges
   // share by their selection weights. The point is where that number falls within the edge's
   // share of [0, 1), turned by one random amount for the whole render: the turn makes t uniform
-  // given the edge even where the number's 2^-24 steps are coarse against the share (millions of
-  // edges), and keeps the spacing of the samples on an edge.
+  // given the edge even where the share holds few of the number's 2^32 steps (an edge among
+  // millions holds about a thousand), and keeps the spacing of the samples on an edge.
   bool stratified = kSpecStratifiedBoundaryValue != 0u;
-  float uEdge = stratified ? stratifiedUnit(place, strategy, viewSeed()) : u.x;
+  uint uEdge = stratified ? stratifiedBits(place, strategy, viewSeed()) : bits.x;
   uint edge = selectEdge(uEdge);
   GpuEdge e = edges[edge];
-  float t = u.y;
+  float t = bitsToUnit(bits.y);
   if (stratified) {
-    float below = edge > 0u ? edges[edge - 1u].inward0.w : 0.0;
     float turn = bitsToUnit(renderBits(kEdgeStrategyCount + strategy, viewSeed()));
-    t = fract((uEdge - below) / (e.inward0.w - below) + turn);
+    t = fract(placeInEdgeInterval(uEdge, edge) + turn);
   }
   vec3 y = mix(e.p0.xyz, e.p1.xyz, t);
   float pY = e.inward1.w / distance(e.p0.xyz, e.p1.xyz);

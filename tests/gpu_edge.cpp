@@ -12,6 +12,7 @@
 // (a few roundings of each input; the measured worst is printed).
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -19,6 +20,7 @@
 #include <glm/glm.hpp>
 
 #include "support/gpu_test.h"
+#include "vktg/silhouette_edges.h"
 
 namespace vktg::test {
 namespace {
@@ -163,6 +165,52 @@ TEST(GpuEdge, SilhouettePlaneAndNormalVelocityMatchTwin) {
   EXPECT_GT(silhouettes, n / 5);
   EXPECT_LT(silhouettes, n - n / 5);
   std::printf("  %d cases, %d silhouettes; worst |v_n error| / bound %.3g\n", n, silhouettes, worstRatio);
+}
+
+// Edge selection on the device (selectEdge, placeInEdgeInterval) reads the fixed-point CDF the
+// host writes (vktg/silhouette_edges.h) exactly: on the creases of a bumpy 300 x 300 heightfield
+// (about 270k edges), the first, middle and last selection numbers of an edge's interval select
+// it and fall at (u - start) / width within it; a lone edge owns all 2^32 numbers.
+TEST(GpuEdge, SelectionFindsTheEdgeWhoseIntervalHoldsTheNumber) {
+  const int n = 300;
+  std::string heights;
+  for (int i = 0; i < n * n; ++i) heights += (i ? ", " : "") + std::to_string(0.1 * std::sin(0.37 * i));
+  const Scene scene = parseSceneJson(R"({"version": 1,
+    "camera": {"type": "perspective", "position": [0, 2, 3], "look_at": [0, 0, 0], "resolution": [8, 8]},
+    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "lights": [{"type": "point", "position": [0, 2, 2], "intensity": 1}],
+    "shapes": [{"name": "ground", "type": "heightfield", "resolution": [300, 300], "size": [2, 2], "material": "m",
+                "heights": [)" + heights + "]}]}", "bumpy.json", ".");
+  gpu::GpuEdge lone{};  // its end, 2^32, stored as 0
+  for (const std::vector<gpu::GpuEdge>& edges : {silhouetteEdges(prepareScene(scene)), std::vector<gpu::GpuEdge>{lone}}) {
+    SCOPED_TRACE(std::to_string(edges.size()) + " edges");
+    std::vector<uint32_t> numbers, expectedEdge;
+    std::vector<double> expectedPlace;
+    uint64_t start = 0;
+    for (size_t e = 0; e < edges.size(); ++e) {
+      const uint64_t end = e + 1 == edges.size() ? uint64_t(1) << 32 : std::bit_cast<uint32_t>(edges[e].inward0.w);
+      if (e % 97 == 0 || e + 1 == edges.size())
+        for (uint64_t u : {start, start + (end - start - 1) / 2, end - 1}) {
+          numbers.push_back(uint32_t(u));
+          expectedEdge.push_back(uint32_t(e));
+          expectedPlace.push_back(double(u - start) / double(end - start));
+        }
+      start = end;
+    }
+    const uint32_t count = uint32_t(numbers.size());
+    const std::vector<uint32_t> out = runKernelWords("edge_select", numbers, 2 * size_t(count), count, nullptr,
+                                                     gpu::kEllipsoidDescend, &edges);
+    int failures = 0;
+    for (uint32_t i = 0; i < count && failures < 5; ++i) {
+      const float place = std::bit_cast<float>(out[2 * i + 1]);
+      // Three float roundings (two conversions and the division) of a place in [0, 1].
+      if (out[2 * i] == expectedEdge[i] && std::abs(place - expectedPlace[i]) <= 3e-7 && place <= 1.0f) continue;
+      ADD_FAILURE() << "number " << numbers[i] << ": edge " << out[2 * i] << " at " << place << ", expected edge "
+                    << expectedEdge[i] << " at " << expectedPlace[i];
+      ++failures;
+    }
+    EXPECT_EQ(failures, 0);
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 
@@ -23,21 +24,51 @@ Scene sceneWith(const std::string& shapes) {
 
 double lengthOf(const gpu::GpuEdge& e) { return glm::length(glm::vec3(e.p1) - glm::vec3(e.p0)); }
 
-void expectValidCdf(const std::vector<gpu::GpuEdge>& edges) {
-  double total = 0, previous = 0, pmfSum = 0;
+constexpr double kSelectionScale = 4294967296.0;  // 2^32 selection numbers
+
+// How many of the 2^32 selection numbers select each edge, as the sampler reads the CDF: edge i
+// owns [end of edge i-1, end of edge i), the last edge's end (2^32) stored as 0.
+std::vector<uint64_t> selectionWidths(const std::vector<gpu::GpuEdge>& edges) {
+  std::vector<uint64_t> widths;
+  uint64_t start = 0;
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const uint64_t end = i + 1 == edges.size() ? uint64_t(kSelectionScale) : std::bit_cast<uint32_t>(edges[i].inward0.w);
+    EXPECT_GT(end, start) << "edge " << i << " is never selected";
+    widths.push_back(end - start);
+    start = end;
+  }
+  EXPECT_EQ(std::bit_cast<uint32_t>(edges.back().inward0.w), 0u);
+  return widths;
+}
+
+// The selection probability the sampler gives each edge is the pmf its weight divides by (to float
+// rounding of the stored pmf); both are the edge's `expected` share to within the rounding of the
+// two ends of its interval (half a selection number each) and of the CDF summed in double, plus
+// `given` numbers that edges too short for one took from the others.
+void expectSelectionMatches(const std::vector<gpu::GpuEdge>& edges, const std::vector<double>& expected, double given = 0) {
+  const std::vector<uint64_t> widths = selectionWidths(edges);
+  double pmfSum = 0;
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const double selected = double(widths[i]) / kSelectionScale;
+    EXPECT_NEAR(edges[i].inward1.w, selected, 6e-8 * selected) << "edge " << i;
+    EXPECT_NEAR(selected, expected[i], (1.5 + given) / kSelectionScale) << "edge " << i;
+    pmfSum += edges[i].inward1.w;
+  }
+  EXPECT_NEAR(pmfSum, 1.0, 1e-5);
+}
+
+// Selection by length; face directions unit and perpendicular to the edge.
+void expectValidCdf(const std::vector<gpu::GpuEdge>& edges, double given = 0) {
+  double total = 0;
+  std::vector<double> share;
   for (const gpu::GpuEdge& e : edges) total += lengthOf(e);
   for (const gpu::GpuEdge& e : edges) {
-    EXPECT_GE(e.inward0.w, previous);
-    EXPECT_NEAR(e.inward1.w, lengthOf(e) / total, 1e-6);
-    pmfSum += e.inward1.w;
-    previous = e.inward0.w;
-    // Face directions: unit, perpendicular to the edge.
+    share.push_back(lengthOf(e) / total);
     glm::vec3 along = glm::normalize(glm::vec3(e.p1) - glm::vec3(e.p0));
     EXPECT_NEAR(glm::length(glm::vec3(e.inward0)), 1.0, 1e-5);
     EXPECT_NEAR(glm::dot(glm::vec3(e.inward0), along), 0.0, 1e-5);
   }
-  EXPECT_FLOAT_EQ(edges.back().inward0.w, 1.0f);
-  EXPECT_NEAR(pmfSum, 1.0, 1e-5);
+  expectSelectionMatches(edges, share, given);
 }
 
 TEST(SilhouetteEdges, RectangleKeepsItsRimAndDropsItsDiagonal) {
@@ -52,6 +83,31 @@ TEST(SilhouetteEdges, RectangleKeepsItsRimAndDropsItsDiagonal) {
     EXPECT_GT(glm::dot(glm::vec3(e.inward0), -mid), 0.0f);
   }
   expectValidCdf(edges);
+}
+
+// Half a million creases of a bumpy heightfield, about nine thousand selection numbers each. (A
+// float CDF drawn with 24-bit numbers gave them about 35 steps each and chose some of them half as
+// often again as their pmf said: a float CDF fails this test.)
+TEST(SilhouetteEdges, SelectionMatchesThePmfAtHalfAMillionEdges) {
+  const int n = 400;
+  std::string heights;
+  for (int i = 0; i < n * n; ++i) heights += (i ? ", " : "") + std::to_string(0.1 * std::sin(0.37 * i));
+  Scene scene = sceneWith(R"({"name": "ground", "type": "heightfield", "resolution": [400, 400], "size": [2, 2],
+    "material": "m", "heights": [)" + heights + "]}");
+  std::vector<gpu::GpuEdge> edges = silhouetteEdges(prepareScene(scene));
+  EXPECT_GT(edges.size(), 400000u);
+  expectValidCdf(edges);
+}
+
+// An edge whose share of the length is below one selection number (2^-32) still gets one.
+TEST(SilhouetteEdges, AnEdgeShorterThanOneSelectionNumberIsStillSelected) {
+  Scene scene = sceneWith(R"({"name": "big", "type": "rectangle", "material": "m", "transform": {"scale": 1e5}},
+    {"name": "speck", "type": "rectangle", "material": "m", "transform": {"translate": [0, 0, 1], "scale": 1e-6}})");
+  std::vector<gpu::GpuEdge> edges = silhouetteEdges(prepareScene(scene));
+  ASSERT_EQ(edges.size(), 8u);
+  expectValidCdf(edges, 4);  // the speck's four edges take one number each
+  for (const gpu::GpuEdge& e : edges)
+    if (lengthOf(e) < 1.0) EXPECT_FLOAT_EQ(e.inward1.w, float(1.0 / kSelectionScale));
 }
 
 TEST(SilhouetteEdges, CubeKeepsItsTwelveCreases) {
@@ -92,20 +148,16 @@ TEST(SilhouetteEdges, MovingEdgesGetHalfTheMass) {
   for (size_t v = 0; v < moving.size(); ++v) moving[v] = prepared.vertices[v].x > 3.0f;
   std::vector<gpu::GpuEdge> edges = silhouetteEdges(prepared, moving);
   ASSERT_EQ(edges.size(), 8u);
-  double previous = 0, pmfSum = 0, movingMass = 0;
+  std::vector<double> expected;
+  double movingMass = 0;
   for (const gpu::GpuEdge& e : edges) {
     bool onSmall = e.p0.x > 3.0f;
     // Length share of 20 for the static half; the small rim's share of its 4 for the moving half.
-    double expected = (1.0 - kMovingEdgeShare) * lengthOf(e) / 20.0 + (onSmall ? kMovingEdgeShare * lengthOf(e) / 4.0 : 0.0);
-    EXPECT_NEAR(e.inward1.w, expected, 1e-6);
-    EXPECT_GE(e.inward0.w, previous);
-    previous = e.inward0.w;
-    pmfSum += e.inward1.w;
+    expected.push_back((1.0 - kMovingEdgeShare) * lengthOf(e) / 20.0 + (onSmall ? kMovingEdgeShare * lengthOf(e) / 4.0 : 0.0));
     if (onSmall) movingMass += e.inward1.w;
   }
-  EXPECT_NEAR(pmfSum, 1.0, 1e-5);
+  expectSelectionMatches(edges, expected);
   EXPECT_NEAR(movingMass, kMovingEdgeShare + (1.0 - kMovingEdgeShare) * 4.0 / 20.0, 1e-5);
-  EXPECT_FLOAT_EQ(edges.back().inward0.w, 1.0f);
   // Everything moving, or nothing: selection by length.
   expectValidCdf(silhouetteEdges(prepared, std::vector<bool>(moving.size(), true)));
   expectValidCdf(silhouetteEdges(prepared, std::vector<bool>(moving.size(), false)));

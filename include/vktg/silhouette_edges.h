@@ -14,8 +14,8 @@ namespace vktg {
 // is kept as the crease of its first two. Dropped: flat creases, which no line can graze without
 // entering a face on both sides. Degenerate (zero-length) edges are dropped. Edges come in order of
 // the bit patterns of their ends' positions, lower end first (p0), an edge's faces in the order
-// the triangles are listed: an edge's index is part of every edge sample. The CDF (inward0.w)
-// selects edges, pmf in inward1.w: proportionally to length, or, when `movingVertex` (per vertex
+// the triangles are listed: an edge's index is part of every edge sample. A CDF in 32-bit fixed
+// point (inward0.w) selects edges, pmf (exactly the edge's share of it) in inward1.w: proportionally to length, or, when `movingVertex` (per vertex
 // of `prepared`) marks some edges as moving and others not, half the mass on the moving edges by
 // length and half on all edges by length. A static edge still carries the term where an end of
 // its boundary segment moves (a moving light, x_a or x_b on a moving shape), hence the defensive

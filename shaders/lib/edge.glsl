@@ -27,14 +27,27 @@
 layout(std430, set = 0, binding = kBindingEdges) readonly buffer EdgesBlock { GpuEdge edges[]; };
 layout(std430, set = 0, binding = kBindingEdgeRecords) buffer EdgeRecordsBlock { EdgeRecord edgeRecords[]; };
 
-// Edge by its CDF (proportional to length).
-uint selectEdge(float u) {
+// Where edge i's interval of 32-bit selection numbers ends (GpuEdge.inward0.w); the last edge's
+// end, 2^32, reads as 0.
+uint edgeIntervalEnd(uint i) { return floatBitsToUint(edges[i].inward0.w); }
+
+// Edge by its CDF (proportional to length) for 32 random bits `u`: the edge whose interval holds
+// u, which happens with probability exactly its pmf (inward1.w). The last edge's end is never read.
+uint selectEdge(uint u) {
   uint lo = 0u, hi = frame.edgeInfo.x - 1u;
   while (lo < hi) {
     uint mid = (lo + hi) / 2u;
-    if (edges[mid].inward0.w > u) hi = mid; else lo = mid + 1u;
+    if (edgeIntervalEnd(mid) > u) hi = mid; else lo = mid + 1u;
   }
   return lo;
+}
+
+// Where u falls within edge `edge`'s interval, in [0, 1].
+float placeInEdgeInterval(uint u, uint edge) {
+  uint start = edge > 0u ? edgeIntervalEnd(edge - 1u) : 0u;
+  // The width less one fits 32 bits also for a single edge (2^32 wraps to 0, minus one to 2^32 - 1).
+  uint widthLessOne = edgeIntervalEnd(edge) - start - 1u;
+  return float(u - start) / (float(widthLessOne) + 1.0);
 }
 
 // The plane spanned by the edge and `dir`: its unit normal `np`, sinPhi = |edge x dir| / |edge|,

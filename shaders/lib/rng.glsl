@@ -26,10 +26,16 @@ Rng rngCreate(uint pixel, uint sampleIndex, uint dimension, uint seed) {
   return r;
 }
 
-// Four uniforms from the current dimension, then advances it.
-vec4 rngNext4(inout Rng r) {
+// Four 32-bit random words from the current dimension, then advances it.
+uvec4 rngNextBits4(inout Rng r) {
   uvec4 h = hash4(r.key);
   r.key.z += 1u;
+  return h;
+}
+
+// Four uniforms from the current dimension, then advances it.
+vec4 rngNext4(inout Rng r) {
+  uvec4 h = rngNextBits4(r);
   return vec4(bitsToUnit(h.x), bitsToUnit(h.y), bitsToUnit(h.z), bitsToUnit(h.w));
 }
 
@@ -58,7 +64,9 @@ uint renderBits(uint dimension, uint seed) { return hash4(uvec4(0xffffffffu, 0xf
 // uniform on [0, 1) (the shift is), and any n consecutive points lie about 1/n apart, so an
 // estimate that sums the samples of one stream stratifies this dimension (randomised quasi-Monte
 // Carlo: unbiased, with the variance of a stratified estimate).
-float stratifiedUnit(uint index, uint dimension, uint seed) {
-  return bitsToUnit(renderBits(dimension, seed) + index * 2654435769u);  // 2^32 (sqrt(5) - 1) / 2
+uint stratifiedBits(uint index, uint dimension, uint seed) {
+  return renderBits(dimension, seed) + index * 2654435769u;  // 2^32 (sqrt(5) - 1) / 2
 }
+
+float stratifiedUnit(uint index, uint dimension, uint seed) { return bitsToUnit(stratifiedBits(index, dimension, seed)); }
 #endif

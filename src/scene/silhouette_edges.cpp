@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include <glm/glm.hpp>
@@ -178,14 +180,25 @@ EdgeList edgeList(const PreparedScene& prepared, const std::vector<bool>& moving
   });
   // Mixing only when it changes something: some edges move and some do not.
   const double movingShare = totalMoving > 0 && totalMoving < total ? kMovingEdgeShare : 0.0;
+  // In 32-bit fixed point: edge i owns the integers [above_{i-1}, above_i) of [0, 2^32), and its
+  // pmf is that width / 2^32, so the sampler (which compares 32-bit numbers) picks each edge with
+  // exactly the probability its weight divides by. A float CDF, sampled with 24-bit numbers, is off
+  // by up to a step per edge: at millions of edges, a few steps each, tens of percent.
+  const uint64_t scale = uint64_t(1) << 32;
   double cdf = 0;
+  uint64_t below = 0;
   for (size_t i = 0; i < out.size(); ++i) {
-    double pmf = (1.0 - movingShare) * lengths[i] / total + (moving[i] ? movingShare * lengths[i] / totalMoving : 0.0);
-    cdf += pmf;
-    out[i].inward0.w = float(cdf);
-    out[i].inward1.w = float(pmf);
+    cdf += (1.0 - movingShare) * lengths[i] / total + (moving[i] ? movingShare * lengths[i] / totalMoving : 0.0);
+    // At least one integer per edge (every edge has a length), and one left for each edge after it.
+    const uint64_t remaining = out.size() - 1 - i;
+    const uint64_t above = i + 1 == out.size()
+                               ? scale
+                               : std::clamp<uint64_t>(uint64_t(std::llround(cdf * double(scale))), below + 1, scale - remaining);
+    const uint32_t stored = uint32_t(above);  // the last edge's 2^32 wraps to 0
+    std::memcpy(&out[i].inward0.w, &stored, sizeof stored);
+    out[i].inward1.w = float(double(above - below) / double(scale));
+    below = above;
   }
-  if (!out.empty()) out.back().inward0.w = 1.0f;
   return list;
 }
 

@@ -11,7 +11,7 @@ namespace vktg::test {
 
 std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vector<uint32_t>& input,
                                      size_t outputWords, uint32_t invocations, const Scene* scene,
-                                     uint32_t ellipsoidSelection) {
+                                     uint32_t ellipsoidSelection, const std::vector<gpu::GpuEdge>* edges) {
   VulkanContext& context = testContext();
   PassPipelines pipelines(context, kTestShaderRegistry);
   Buffer dummy(context, 256, MemoryKind::Device, "test.dummy");
@@ -35,6 +35,13 @@ std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vecto
     table.setScene(*gpuScene);
     frame = sceneFrameUniforms(scene->camera, scene->render, *prepared, *gpuScene);
     setGateUniforms(frame, scene->gate, true);
+  }
+  std::optional<Buffer> edgeBuffer;
+  if (edges && !edges->empty()) {
+    edgeBuffer.emplace(context, edges->size() * sizeof(gpu::GpuEdge), MemoryKind::Device, "test.edges");
+    edgeBuffer->upload(context, edges->data(), edges->size() * sizeof(gpu::GpuEdge));
+    table.set(gpu::kBindingEdges, *edgeBuffer);
+    frame.edgeInfo.x = uint32_t(edges->size());
   }
   frameBuffer.upload(context, &frame, sizeof frame);
   table.set(gpu::kBindingFrame, frameBuffer);

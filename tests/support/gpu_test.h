@@ -18,10 +18,12 @@ namespace vktg::test {
 
 // Raw form: input/output as 32-bit words. `scene` (optional) is uploaded and bound like in a
 // render (triangles, BVH, lights, frame uniforms), so kernels can trace rays. `ellipsoidSelection`
-// specialises kSpecEllipsoidSelection (kEllipsoidDescend / kEllipsoidEnumerate).
+// specialises kSpecEllipsoidSelection (kEllipsoidDescend / kEllipsoidEnumerate). `edges`
+// (optional) is bound as the edge list (kBindingEdges, its count in frame.edgeInfo.x).
 std::vector<uint32_t> runKernelWords(const std::string& kernel, const std::vector<uint32_t>& input,
                                      size_t outputWords, uint32_t invocations, const Scene* scene = nullptr,
-                                     uint32_t ellipsoidSelection = gpu::kEllipsoidDescend);
+                                     uint32_t ellipsoidSelection = gpu::kEllipsoidDescend,
+                                     const std::vector<gpu::GpuEdge>* edges = nullptr);
 
 // Typed convenience: In and Out are trivially copyable structs of 32-bit fields.
 template <class Out, class In>

@@ -314,8 +314,11 @@ struct GpuLight {
 struct GpuEdge {
   vec4 p0;       // xyz: first end, w: its vertex index (uint bits)
   vec4 p1;       // xyz: second end, w: its vertex index (uint bits)
-  vec4 inward0;  // xyz: unit direction in face 0, perpendicular to the edge, into the face; w: inclusive CDF by length
-  vec4 inward1;  // xyz: the same in face 1 (zero for a boundary edge); w: selection probability
+  vec4 inward0;  // xyz: unit direction in face 0, perpendicular to the edge, into the face; w: uint bits, the
+                 // end of the edge's interval [previous edge's end, end) of 32-bit selection numbers (the last
+                 // edge's 2^32 is stored as 0)
+  vec4 inward1;  // xyz: the same in face 1 (zero for a boundary edge); w: selection probability, the interval's
+                 // width / 2^32
 };
 
 // ---- Per-frame constants -----------------------------------------------------------------------
