@@ -418,9 +418,9 @@ void main() {
   // Stratified (docs/theory.md 3.7): the edge and the point along it from one number of the
   // strategy's own sequence, so a strategy's samples spread evenly over the length all edges
   // share by their selection weights. The point is where that number falls within the edge's
-  // share of [0, 1), turned by one random amount for the whole render: the turn makes t uniform
-  // given the edge even where the share holds few of the number's 2^32 steps (an edge among
-  // millions holds about a thousand), and keeps the spacing of the samples on an edge.
+  // interval of the 32-bit numbers, turned by one random amount for the whole render: the turn
+  // makes t uniform given the edge even where the interval is short (an edge among millions holds
+  // about a thousand numbers), and keeps the spacing of the samples on an edge.
   bool stratified = kSpecStratifiedBoundaryValue != 0u;
   uint uEdge = stratified ? stratifiedBits(place, strategy, viewSeed()) : bits.x;
   uint edge = selectEdge(uEdge);

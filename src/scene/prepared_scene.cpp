@@ -3,6 +3,7 @@
 #include <bit>
 #include <cmath>
 
+#include "scene/selection_cdf.h"
 #include "vktg/error.h"
 
 namespace vktg {
@@ -94,13 +95,18 @@ void prepareLights(PreparedScene& out, const Scene& scene, const std::vector<uin
   double total = 0;
   for (double p : power) total += p;
   if (out.lights.empty() || !(total > 0)) throw Error("scene has no light: add an emissive shape or a point light");
-  double running = 0;
+  // In 24-bit fixed point (selection_cdf.h): the shaders draw 24-bit numbers k / 2^24 and every
+  // end and width is a float exactly, so each light is picked with exactly its pmf, however many
+  // emitting triangles there are.
+  const uint64_t scale = uint64_t(1) << 24;
+  if (out.lights.size() > scale) throw Error("scene has more than 2^24 lights (emitting triangles and point lights)");
+  const std::vector<uint64_t> ends = selectionIntervalEnds(power, scale);
+  uint64_t start = 0;
   for (size_t i = 0; i < out.lights.size(); ++i) {
-    running += power[i];
-    out.lights[i].pmf = float(power[i] / total);
-    out.lights[i].cdf = float(running / total);
+    out.lights[i].pmf = float(double(ends[i] - start) / double(scale));
+    out.lights[i].cdf = float(double(ends[i]) / double(scale));
+    start = ends[i];
   }
-  out.lights.back().cdf = 1.0f;
   out.totalLightPower = float(total);
 }
 

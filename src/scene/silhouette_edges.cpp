@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 
 #include <glm/glm.hpp>
+
+#include "scene/selection_cdf.h"
 
 namespace vktg {
 namespace {
@@ -49,8 +50,8 @@ struct EdgeSide {
 struct EdgeFaces {
   uint32_t count = 0;
   uint32_t vertex0 = 0, vertex1 = 0;  // global vertex indices of the ends (first face seen)
-  glm::vec3 inward[2];                // per face: unit in-face direction perpendicular to the edge
-  glm::vec3 normal[2];                // per face: unit normal
+  glm::vec3 inward[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};  // per face: unit in-face direction perpendicular to the edge
+  glm::vec3 normal[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};  // per face: unit normal
   uint32_t opposite[2] = {0, 0};      // per face: the vertex not on the edge
   uint32_t triangle[2] = {0, 0};      // per face: its triangle (the prepared scene's leaf order)
 };
@@ -180,24 +181,19 @@ EdgeList edgeList(const PreparedScene& prepared, const std::vector<bool>& moving
   });
   // Mixing only when it changes something: some edges move and some do not.
   const double movingShare = totalMoving > 0 && totalMoving < total ? kMovingEdgeShare : 0.0;
-  // In 32-bit fixed point: edge i owns the integers [above_{i-1}, above_i) of [0, 2^32), and its
-  // pmf is that width / 2^32, so the sampler (which compares 32-bit numbers) picks each edge with
-  // exactly the probability its weight divides by. A float CDF, sampled with 24-bit numbers, is off
-  // by up to a step per edge: at millions of edges, a few steps each, tens of percent.
+  // In 32-bit fixed point (selection_cdf.h): sample_edges compares 32-bit numbers against the ends,
+  // so each edge is picked with exactly the pmf its weight divides by, among millions of edges too.
+  std::vector<double> weights(out.size());
+  for (size_t i = 0; i < out.size(); ++i)
+    weights[i] = (1.0 - movingShare) * lengths[i] / total + (moving[i] ? movingShare * lengths[i] / totalMoving : 0.0);
   const uint64_t scale = uint64_t(1) << 32;
-  double cdf = 0;
-  uint64_t below = 0;
+  const std::vector<uint64_t> ends = selectionIntervalEnds(weights, scale);
+  uint64_t start = 0;
   for (size_t i = 0; i < out.size(); ++i) {
-    cdf += (1.0 - movingShare) * lengths[i] / total + (moving[i] ? movingShare * lengths[i] / totalMoving : 0.0);
-    // At least one integer per edge (every edge has a length), and one left for each edge after it.
-    const uint64_t remaining = out.size() - 1 - i;
-    const uint64_t above = i + 1 == out.size()
-                               ? scale
-                               : std::clamp<uint64_t>(uint64_t(std::llround(cdf * double(scale))), below + 1, scale - remaining);
-    const uint32_t stored = uint32_t(above);  // the last edge's 2^32 wraps to 0
+    const uint32_t stored = uint32_t(ends[i]);  // the last edge's 2^32 wraps to 0
     std::memcpy(&out[i].inward0.w, &stored, sizeof stored);
-    out[i].inward1.w = float(double(above - below) / double(scale));
-    below = above;
+    out[i].inward1.w = float(double(ends[i] - start) / double(scale));
+    start = ends[i];
   }
   return list;
 }
