@@ -15,9 +15,10 @@ namespace vktg {
 // entering a face on both sides. Degenerate (zero-length) edges are dropped. Edges come in order of
 // the bit patterns of their ends' positions, lower end first (p0), an edge's faces in the order
 // the triangles are listed: an edge's index is part of every edge sample. A CDF in 32-bit fixed
-// point (inward0.w) selects edges, pmf (exactly the edge's share of it) in inward1.w: proportionally to length, or, when `movingVertex` (per vertex
-// of `prepared`) marks some edges as moving and others not, half the mass on the moving edges by
-// length and half on all edges by length. A static edge still carries the term where an end of
+// point (inward0.w) selects edges, pmf (exactly the edge's share of it) in inward1.w:
+// proportionally to length, or, when `movingVertex` (per vertex of `prepared`) marks some edges as
+// moving and others not, half the mass on the moving edges by length and half on all edges by
+// length. A static edge still carries the term where an end of
 // its boundary segment moves (a moving light, x_a or x_b on a moving shape), hence the defensive
 // half; a moving edge is where the term usually is.
 std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const std::vector<bool>& movingVertex = {});
