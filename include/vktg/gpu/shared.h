@@ -304,8 +304,9 @@ struct GpuLight {
   vec4 positionIntensity;  // point light: xyz position, w intensity (W/sr); area: unused
   uint type;               // kLight*
   uint triangle;           // area light: index into the BVH-ordered triangle array
-  float cdf;               // inclusive CDF of selection probabilities
-  float pmf;               // selection probability
+  float cdf;               // inclusive CDF of selection probabilities, a multiple of 2^-24 (the
+                           // shaders' random numbers' step), so that selection gives exactly `pmf`
+  float pmf;               // selection probability: this light's step of the CDF
 };
 
 // An edge that can be a silhouette: a mesh boundary, or the crease between two faces that are not
