@@ -122,6 +122,8 @@ const BadCase kCases[] = {
     {"heightfield NaN-like height", [](json& j) { j["shapes"][1]["heights"][2] = nullptr; }, "shapes[1].heights[2]", "wrong type"},
     {"transform past the float range", [](json& j) { j["shapes"][1]["transform"] = {{"scale", 3e38}, {"translate", {3e38, 0, 0}}}; }, "shapes[1]", "past the float range"},
     {"mesh transform past the float range", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "tiny.gltf"}, {"transform", {{"scale", 3e38}, {"rotate", {0, 45, 0}}}}}; }, "shapes[1]", "past the float range"},
+    {"area past the float range", [](json& j) { j["shapes"][1]["transform"] = {{"scale", 1e20}}; }, "shapes[1]", "surface area past the float range"},
+    {"emitted power past the float range", [](json& j) { j["shapes"][0]["emission"] = 1e38; j["shapes"][0]["transform"]["scale"] = 10; }, "shapes[0].emission", "emitted power"},
     {"zero-area mesh", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "degenerate.gltf"}}; }, "shapes[1]", "zero area"},
     {"empty mesh", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "no_meshes.gltf"}}; }, "shapes[1].file", "empty mesh"},
     {"missing mesh file", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "nowhere.glb"}}; }, "shapes[1].file", "not found"},
@@ -131,6 +133,7 @@ const BadCase kCases[] = {
     {"duplicate shape name", [](json& j) { j["shapes"][1]["name"] = "lamp"; }, "shapes[1].name", "duplicate name"},
     {"light named like a shape", [](json& j) { j["lights"][0]["name"] = "ground"; }, "lights[0].name", "duplicate name"},
     // Emitters.
+    {"summed power past the float range", [](json& j) { j["shapes"][0]["emission"] = 1e38; j["shapes"][0]["transform"]["scale"] = 0.5; j["lights"][0]["intensity"] = 1e37; }, "shapes, lights", "emitted power past the float range"},
     {"no emitter", [](json& j) { j["shapes"][0]["emission"] = 0; j["lights"][0]["intensity"] = 0; }, "shapes, lights", "no emitter"},
 };
 

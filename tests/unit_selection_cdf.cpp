@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "scene/selection_cdf.h"
+#include "vktg/error.h"
 #include "vktg/prepared_scene.h"
 
 namespace vktg {
@@ -85,6 +86,27 @@ TEST(SelectionCdf, LightsAreDrawnWithExactlyTheirPmf) {
     start = end;
   }
   EXPECT_EQ(start, scale);
+}
+
+// Each emitter's power fits a float, the sum does not: the device divides by it as a float, so
+// preparation refuses the scene. (The scene parser refuses such a file first; a scene built in
+// code, or a glTF file's, reaches preparation.)
+TEST(SelectionCdf, TotalPowerPastTheFloatRangeIsAnError) {
+  Scene scene = parseSceneJson(R"({"version": 1,
+    "camera": {"type": "perspective", "position": [0, 0, 5], "look_at": [0, 0, 0], "resolution": [8, 8]},
+    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"name": "lamp", "type": "rectangle", "material": "m", "emission": 1e38, "transform": {"scale": 0.5}}]})",
+                               "bright.json", ".");
+  Shape second = scene.shapes[0];
+  second.name = "lamp2";
+  for (glm::vec3& p : second.positions) p.z += 1.0f;
+  scene.shapes.push_back(second);
+  try {
+    prepareScene(scene);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("emitted power"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

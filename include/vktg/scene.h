@@ -79,6 +79,9 @@ struct Scene {
 
   size_t triangleCount() const;
   bool hasEmitters() const;
+  // Power emitted by all shapes (pi x emission x area) and point lights (4 pi x intensity), in
+  // double: light selection is proportional to each one's share.
+  double emittedPower() const;
 };
 
 // Loads a `.json` scene file or a plain `.gltf`/`.glb`. Throws vktg::Error ("file: field: problem").

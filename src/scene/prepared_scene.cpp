@@ -95,6 +95,10 @@ void prepareLights(PreparedScene& out, const Scene& scene, const std::vector<uin
   double total = 0;
   for (double p : power) total += p;
   if (out.lights.empty() || !(total > 0)) throw Error("scene has no light: add an emissive shape or a point light");
+  // The device divides by the total as a float (areaLightPdf).
+  if (!std::isfinite(float(total)))
+    throw Error("the scene's emitted power (pi x emission x area over every emitter, 4 pi x intensity per point "
+                "light) is past the float range");
   // In 24-bit fixed point (selection_cdf.h): the shaders draw 24-bit numbers k / 2^24 and every
   // end and width is a float exactly, so each light is picked with exactly its pmf, however many
   // emitting triangles there are.

@@ -2,12 +2,23 @@
 
 #include "vktg/scene.h"
 
+#include "scene/primitives.h"
+
 namespace vktg {
 
 size_t Scene::triangleCount() const {
   size_t count = 0;
   for (const Shape& shape : shapes) count += shape.triangles.size();
   return count;
+}
+
+double Scene::emittedPower() const {
+  constexpr double kPi = 3.141592653589793;
+  double power = 0;
+  for (const Shape& shape : shapes)
+    if (shape.emission > 0) power += kPi * double(shape.emission) * meshArea(shape.positions, shape.triangles);
+  for (const PointLight& light : pointLights) power += 4.0 * kPi * double(light.intensity);
+  return power;
 }
 
 bool Scene::hasEmitters() const {

@@ -51,6 +51,8 @@ class SceneParser {
     if (!m_scene.hasEmitters())
       fail(m_file, "shapes, lights",
            "no emitter: the scene needs a shape with emission > 0 or a point light with intensity > 0");
+    if (!(m_scene.emittedPower() <= double(std::numeric_limits<float>::max())))
+      fail(m_file, "shapes, lights", "emitted power past the float range: the emitters' power summed exceeds it");
     // Last: parameters refer to shapes, lights, materials and the gate, and check how they are used.
     if (root.has("parameters")) {
       const JsonValue parameters = root.field("parameters");
@@ -196,7 +198,9 @@ class SceneParser {
       }
       const Shape& shape = m_scene.shapes.back();
       if (!allFinite(shape.positions)) value.fail("transform takes vertex positions past the float range");
-      if (meshArea(shape.positions, shape.triangles) <= 0) value.fail("zero area: the mesh has no visible surface");
+      const double area = meshArea(shape.positions, shape.triangles);
+      if (area <= 0) value.fail("zero area: the mesh has no visible surface");
+      requireFloatSurface(o, value, area, emission);
       return;
     }
     TriangleMesh mesh;
@@ -211,7 +215,9 @@ class SceneParser {
     }
     transformMesh(mesh, transform);
     if (!allFinite(mesh.positions)) value.fail("transform takes vertex positions past the float range");
-    if (!(meshArea(mesh.positions, mesh.triangles) > 0)) value.fail("zero area: the shape has no visible surface");
+    const double area = meshArea(mesh.positions, mesh.triangles);
+    if (!(area > 0)) value.fail("zero area: the shape has no visible surface");
+    requireFloatSurface(o, value, area, emission);
     Shape shape;
     shape.name = name;
     shape.positions = std::move(mesh.positions);
@@ -220,6 +226,15 @@ class SceneParser {
     shape.emission = emission;
     shape.grid = grid;
     m_scene.shapes.push_back(std::move(shape));
+  }
+
+  // The device keeps each triangle's area, and the scene's emitted power, as floats (a quarter of
+  // the range leaves room for the cross product that gives an area).
+  static void requireFloatSurface(const JsonObject& o, const JsonValue& value, double area, float emission) {
+    constexpr double kFloatMax = double(std::numeric_limits<float>::max());
+    if (!(area <= kFloatMax / 4)) value.fail("surface area past the float range: the transform makes the shape too large");
+    if (!(3.141592653589793 * double(emission) * area <= kFloatMax))
+      o.field("emission").fail("emitted power (pi x emission x area) past the float range");
   }
 
   static TriangleMesh parseHeightfield(const JsonObject& o, glm::uvec2& grid) {
