@@ -1,4 +1,5 @@
 #include <limits>
+#include <numbers>
 
 #include "vktg/scene.h"
 
@@ -13,7 +14,7 @@ size_t Scene::triangleCount() const {
 }
 
 double Scene::emittedPower() const {
-  constexpr double kPi = 3.141592653589793;
+  constexpr double kPi = std::numbers::pi;
   double power = 0;
   for (const Shape& shape : shapes)
     if (shape.emission > 0) power += kPi * double(shape.emission) * meshArea(shape.positions, shape.triangles);

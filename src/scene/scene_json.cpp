@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "scene/primitives.h"
@@ -233,7 +234,7 @@ class SceneParser {
   static void requireFloatSurface(const JsonObject& o, const JsonValue& value, double area, float emission) {
     constexpr double kFloatMax = double(std::numeric_limits<float>::max());
     if (!(area <= kFloatMax / 4)) value.fail("surface area past the float range: the transform makes the shape too large");
-    if (!(3.141592653589793 * double(emission) * area <= kFloatMax))
+    if (!(std::numbers::pi * double(emission) * area <= kFloatMax))
       o.field("emission").fail("emitted power (pi x emission x area) past the float range");
   }
 
