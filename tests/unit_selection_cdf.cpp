@@ -53,10 +53,10 @@ TEST(SelectionCdf, MoreItemsThanNumbersIsAnError) {
   EXPECT_EQ(widthsOf(selectionIntervalEnds(std::vector<double>(8, 1.0), 8), 8), std::vector<uint64_t>(8, 1));
 }
 
-// A light among 200,000 emitting triangles (about 84 of the shaders' 2^24 numbers each): the
+// A light among 200,000 emitting triangles (about 74 of the shaders' 2^24 numbers each): the
 // CDF's ends are multiples of 2^-24 and each pmf is exactly its interval's width, so a light is
 // drawn with exactly the probability its sample divides by. (With the CDF rounded to float and
-// pmfs from the powers, the two differed by up to a number in 84.)
+// pmfs from the powers, the two differed by up to a number in 74.)
 TEST(SelectionCdf, LightsAreDrawnWithExactlyTheirPmf) {
   Scene scene = parseSceneJson(R"({"version": 1,
     "camera": {"type": "perspective", "position": [0, 0, 5], "look_at": [0, 0, 0], "fov_y": 40, "resolution": [8, 8]},

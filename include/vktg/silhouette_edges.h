@@ -18,9 +18,9 @@ namespace vktg {
 // point (inward0.w) selects edges, pmf (exactly the edge's share of it) in inward1.w:
 // proportionally to length, or, when `movingVertex` (per vertex of `prepared`) marks some edges as
 // moving and others not, half the mass on the moving edges by length and half on all edges by
-// length. A static edge still carries the term where an end of
-// its boundary segment moves (a moving light, x_a or x_b on a moving shape), hence the defensive
-// half; a moving edge is where the term usually is.
+// length. A static edge still carries the term where an end of its boundary segment moves (a
+// moving light, x_a or x_b on a moving shape), hence the defensive half; a moving edge is where
+// the term usually is.
 std::vector<gpu::GpuEdge> silhouetteEdges(const PreparedScene& prepared, const std::vector<bool>& movingVertex = {});
 
 // The same edges with, per edge, the vertex opposite it in each of its first two faces (x, y; ~0 for

@@ -50,8 +50,9 @@ struct EdgeSide {
 struct EdgeFaces {
   uint32_t count = 0;
   uint32_t vertex0 = 0, vertex1 = 0;  // global vertex indices of the ends (first face seen)
-  glm::vec3 inward[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};  // per face: unit in-face direction perpendicular to the edge
-  glm::vec3 normal[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};  // per face: unit normal
+  // Per face: the unit in-face direction perpendicular to the edge, and the unit normal.
+  glm::vec3 inward[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};
+  glm::vec3 normal[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};
   uint32_t opposite[2] = {0, 0};      // per face: the vertex not on the edge
   uint32_t triangle[2] = {0, 0};      // per face: its triangle (the prepared scene's leaf order)
 };
