@@ -31,6 +31,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Why a run that no other rule stopped ended (printed as "stopped after N iterations (...)").
+constexpr const char* kReachedIterations = "it reached stop.iterations";
+
 // Random numbers of iteration `iteration`, target `target` and use `use` (0: the render the loss
 // comes from, 1: the gradient's renders; independent, as THEORY.md §7 requires; 2 + round: the
 // term pilot's gradients; pass × kChainedPassUse: the chained interior passes after the first,
@@ -509,7 +512,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       if (e.stop.parameterErrorBelow && error && *error < *e.stop.parameterErrorBelow)
         stop = "the parameter error fell below stop.parameter_error_below";
       if (e.stop.seconds && elapsed() > *e.stop.seconds) stop = "the run reached stop.seconds";
-      if (lastIteration && stop.empty()) stop = "the last iteration (stop.iterations)";
+      if (lastIteration && stop.empty()) stop = kReachedIterations;
       if ((i + 1) % e.checkpointEvery == 0 || !stop.empty()) {
         writeState(i + 1, elapsed());
         writeFigures();
@@ -526,7 +529,7 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
     throw;
   }
   if (summary.stopReason.empty()) {
-    summary.stopReason = "the last iteration (stop.iterations)";
+    summary.stopReason = kReachedIterations;
     writeState(summary.iterations, elapsed());
     writeFigures();
   }
