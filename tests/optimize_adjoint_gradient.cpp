@@ -103,6 +103,26 @@ TEST(GradAdjoint, RotationRoughnessEmissionIntensity) {
   expectAdjointMatchesLanes(scene, {"spin", "gloss", "lamp_power", "bulb_power"}, options(16, 16));
 }
 
+// Free vertex positions (what a vertex_positions entry expands to): x, y and z displacements of
+// single vertices, so that vertex accumulators hold all three components. Four parameters, one
+// block of forward lanes: a block builds its edge list's CDF from the vertices its own lanes move,
+// so lanes in blocks that move other vertices would draw other edge samples than the adjoint.
+TEST(GradAdjoint, FreeVertexPositions) {
+  Scene scene = test::roomScene();
+  std::vector<std::string> names;
+  for (auto [vertex, axis] : {std::pair{6u, 0}, {6u, 1}, {6u, 2}, {2u, 1}}) {
+    Parameter p;
+    p.name = "corner" + std::to_string(vertex) + "xyz"[axis];
+    p.kind = ParameterKind::Displace;
+    p.target = "block";
+    p.axis[axis] = 1.0f;
+    p.vertices = {vertex};
+    names.push_back(p.name);
+    scene.parameters.push_back(std::move(p));
+  }
+  expectAdjointMatchesLanes(scene, names, options(16, 16));
+}
+
 // The model of the named parameters of `scene`.
 ParameterModel modelOf(const Scene& scene, const std::vector<std::string>& names) {
   std::vector<uint32_t> indices;

@@ -218,7 +218,7 @@ const BadCase kCases[] = {
     {"preconditioner with a two-vertex displacement", [](json& j) { j["parameters"].push_back({{"name", "bump"}, {"truth", 0}}); },
      "preconditioner.shape", "displace of 2 vertices"},
     {"preconditioner with a vertex moved twice", [](json& j) { j["parameters"].push_back({{"name", "lift5"}, {"truth", 0}}); },
-     "preconditioner.shape", "vertex 5 of shape \"terrain\" is displaced by both \"h5\" and \"lift5\""},
+     "preconditioner.shape", "vertex 5 of shape \"terrain\" is displaced by both \"h5\" and \"lift5\" along one direction"},
     // Render budget.
     {"unknown render field", [](json& j) { j["render"]["samples"] = 4; }, "render.samples", "unknown field"},
     {"zero spp", [](json& j) { j["render"]["spp"] = 0; }, "render.spp", "out of range"},

@@ -6,6 +6,7 @@
 #include <set>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "opt/regularizer.h"
 #include "support/file_test.h"
@@ -245,6 +246,38 @@ TEST(ExperimentPreconditioner, SmoothsTheShapesEntriesOnly) {
     std::vector<double> wrong(3);
     preconditionGradient(x, wrong);
   }, {"3 values for 18 parameters"});
+}
+
+// Free vertex positions (a vertex_positions entry: x, y and z parameters per vertex): the
+// preconditioner smooths each direction's entries as a field of its own, which is (I + λ L)⁻¹
+// applied to the xyz gradient field.
+class FreeVertexPositions : public test::TempDirTest {};
+
+TEST_F(FreeVertexPositions, PreconditionerSmoothsEachDirectionApart) {
+  nlohmann::json scene = nlohmann::json::parse(test::readAll(kData / "terrain.json"));
+  scene["parameters"] = {{{"type", "vertex_positions"}, {"shape", "terrain"}, {"name_prefix", "v"}},
+                         {{"name", "grey"}, {"type", "albedo"}, {"material", "ground"}}};
+  test::writePlain(m_dir / "free.json", scene.dump());
+  test::writePlain(m_dir / "front.exr", test::readAll(kData / "front.exr"));
+  const nlohmann::json experiment = {
+      {"version", 1},
+      {"scene", "free.json"},
+      {"parameters", {{{"name", "v*"}}, {{"name", "grey"}}}},
+      {"targets", {{{"image", "front.exr"}}}},
+      {"preconditioner", {{"type", "large_steps"}, {"shape", "terrain"}, {"lambda", 3}}}};
+  const Experiment x = parseExperimentJson(experiment.dump(), "free.experiment.json", m_dir);
+  ASSERT_EQ(x.parameters.size(), 49u);
+  std::vector<double> gradient(x.parameters.size());
+  for (size_t i = 0; i < gradient.size(); ++i) gradient[i] = std::cos(double(i) * 0.7);
+  std::vector<double> preconditioned = gradient;
+  preconditionGradient(x, preconditioned);
+  for (size_t axis = 0; axis < 3; ++axis) {
+    std::vector<double> field(16);
+    for (size_t v = 0; v < 16; ++v) field[v] = gradient[3 * v + axis];
+    solveLargeSteps(x.scene.shapes[0].triangles, 16, 3.0, field);
+    for (size_t v = 0; v < 16; ++v) EXPECT_NEAR(preconditioned[3 * v + axis], field[v], 1e-12) << x.parameters[3 * v + axis].name;
+  }
+  EXPECT_EQ(preconditioned[48], gradient[48]);
 }
 
 }  // namespace

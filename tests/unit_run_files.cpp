@@ -235,6 +235,40 @@ TEST_F(RunFiles, ResumedLogErrors) {
   EXPECT_EQ(readAll(path), before);  // nothing rewritten by a failed open
 }
 
+// The optimised scene holds every optimised parameter of an expanding entry at its place in
+// `values`, also when only some of the entry's parameters were optimised, and loads as the scene
+// moved by θ.
+TEST_F(RunFiles, OptimisedSceneWritesTheValuesOfExpandedParameters) {
+  nlohmann::json scene = nlohmann::json::parse(readAll(kData / "terrain.json"));
+  scene["parameters"] = {{{"type", "heightfield_heights"}, {"shape", "terrain"}, {"name_prefix", "h"}},
+                         {{"type", "vertex_positions"}, {"shape", "terrain"}, {"name_prefix", "v"}}};
+  writePlain(m_dir / "free.json", scene.dump());
+  writePlain(m_dir / "front.exr", readAll(kData / "front.exr"));
+  const nlohmann::json experiment = {{"version", 1},
+                                     {"scene", "free.json"},
+                                     {"parameters", {{{"name", "h7"}}, {{"name", "v5_*"}}}},
+                                     {"targets", {{{"image", "front.exr"}}}}};
+  const Experiment x = parseExperimentJson(experiment.dump(), "free.experiment.json", m_dir);
+  ASSERT_EQ(x.parameters.size(), 4u);
+  const std::vector<double> theta = {0.25, 0.125, -0.5, 0.0625};  // h7, v5_x, v5_y, v5_z
+  ASSERT_TRUE(writeOptimizedScene(m_dir / "out.json", x, theta));
+  const nlohmann::json written = nlohmann::json::parse(readAll(m_dir / "out.json"));
+  EXPECT_EQ(written["parameters"][0]["values"].size(), 16u);
+  EXPECT_EQ(written["parameters"][0]["values"][7], 0.25);
+  EXPECT_EQ(written["parameters"][1]["values"].size(), 48u);
+  EXPECT_EQ(written["parameters"][1]["values"][16], -0.5);
+  const Scene moved = loadScene(m_dir / "out.json");
+  const std::vector<glm::vec3>& before = x.scene.shapes[0].positions;
+  const std::vector<glm::vec3>& after = moved.shapes[0].positions;
+  ASSERT_EQ(after.size(), before.size());
+  for (size_t v = 0; v < before.size(); ++v) {
+    glm::vec3 expected = before[v];
+    if (v == 7) expected.y += 0.25f;
+    if (v == 5) expected += glm::vec3(0.125f, -0.5f, 0.0625f);
+    EXPECT_NEAR(glm::distance(after[v], expected), 0.0f, 1e-6f) << "vertex " << v;
+  }
+}
+
 }  // namespace
 }  // namespace vktg
 

@@ -387,5 +387,55 @@ TEST(SceneParse, ParameterValuesAreAppliedAtLoad) {
   }
 }
 
+// "vertex_positions": three displacements per vertex along the world axes, named <prefix><k>_x, _y,
+// _z in vertex order, for any shape; its "values" move the vertices at load like any value.
+TEST(SceneParse, VertexPositionsExpandToThreeAxesPerVertex) {
+  const std::string shapes = R"(
+    "camera": {"type": "perspective", "position": [0, 0, 3], "look_at": [0, 0, 0], "fov_y": 40, "resolution": [8, 8]},
+    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"name": "lamp", "type": "rectangle", "material": "m", "emission": 1},
+               {"name": "panel", "type": "rectangle", "material": "m", "transform": {"translate": [0, 0, -1]}}],)";
+  const Scene plain = parse(R"({"version": 1,)" + shapes + R"(
+    "parameters": [{"type": "vertex_positions", "shape": "panel"}]})");
+  const Shape& panel = shapeNamed(plain, "panel");
+  ASSERT_EQ(plain.parameters.size(), 3 * panel.positions.size());
+  const glm::vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const char* suffixes[3] = {"_x", "_y", "_z"};
+  for (size_t i = 0; i < plain.parameters.size(); ++i) {
+    const Parameter& p = plain.parameters[i];
+    EXPECT_EQ(p.name, "panel_v" + std::to_string(i / 3) + suffixes[i % 3]);
+    EXPECT_EQ(p.kind, ParameterKind::Displace);
+    EXPECT_EQ(p.target, "panel");
+    EXPECT_EQ(p.axis, axes[i % 3]);
+    EXPECT_EQ(p.vertices, std::vector<uint32_t>{uint32_t(i / 3)});
+  }
+  const Scene valued = parse(R"({"version": 1,)" + shapes + R"(
+    "parameters": [{"type": "vertex_positions", "shape": "panel", "name_prefix": "p",
+                    "values": [0, 0, 0, 0.25, -0.5, 0.125, 0, 0, 0, 0, 0, 0]}]})");
+  EXPECT_EQ(valued.parameters[4].name, "p1_y");
+  const Shape& moved = shapeNamed(valued, "panel");
+  EXPECT_NEAR(moved.positions[1].x, panel.positions[1].x + 0.25f, 1e-6f);
+  EXPECT_NEAR(moved.positions[1].y, panel.positions[1].y - 0.5f, 1e-6f);
+  EXPECT_NEAR(moved.positions[1].z, panel.positions[1].z + 0.125f, 1e-6f);
+  EXPECT_EQ(moved.positions[0], panel.positions[0]);
+  EXPECT_EQ(moved.positions[2], panel.positions[2]);
+  const auto errorOf = [&](const std::string& parameters) {
+    try {
+      parse(R"({"version": 1,)" + shapes + R"("parameters": )" + parameters + "}");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(errorOf(R"([{"type": "vertex_positions", "shape": "panel", "values": [0, 1, 2, 3]}])")
+                .find("parameters[0].values"), std::string::npos);
+  EXPECT_NE(errorOf(R"([{"type": "vertex_positions", "shape": "wall"}])").find("unknown shape \"wall\""), std::string::npos);
+  EXPECT_NE(errorOf(R"([{"type": "vertex_positions", "shape": "panel", "name_prefix": "a b"}])").find("invalid name prefix"),
+            std::string::npos);
+  EXPECT_NE(errorOf(R"([{"name": "panel_v2_z", "type": "translate", "shape": "lamp", "axis": [0, 1, 0]},
+                        {"type": "vertex_positions", "shape": "panel"}])")
+                .find("duplicate parameter name \"panel_v2_z\""), std::string::npos);
+}
+
 }  // namespace
 }  // namespace vktg

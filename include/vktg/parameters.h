@@ -44,6 +44,16 @@ struct Parameter {
 // lists ("a,b") and wildcards ("h*") can name them unambiguously.
 bool isValidParameterName(const std::string& name);
 
+// Scene-file entries that expand to one Displace parameter per vertex and direction, named
+// <prefix><vertex><suffix> and ordered by vertex, then direction: "heightfield_heights" (suffix "",
+// along the heightfield's up; default prefix "<shape>_h") and "vertex_positions" (suffixes "_x",
+// "_y", "_z", along the world axes; default prefix "<shape>_v"). Other types: no suffixes.
+struct VertexExpansion {
+  std::vector<std::string> suffixes;
+  std::string defaultPrefix;
+};
+VertexExpansion vertexExpansion(const std::string& type, const std::string& shape);
+
 // Moves vertices or a point light: needs velocity fields and may move occluders (edge terms).
 bool isGeometric(ParameterKind kind);
 bool isGeometric(const Parameter& parameter);

@@ -5,9 +5,11 @@
 #include "opt/experiment.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <unordered_map>
 
@@ -465,8 +467,9 @@ class ExperimentParser {
     const std::vector<size_t> moving = parametersMoving(spec.shape);
     if (moving.empty())
       shapeField.fail("no optimised parameter moves vertices of shape " + inQuotes(shape.name) + ": nothing to precondition");
-    // The preconditioner smooths a gradient given per vertex: one parameter per displaced vertex.
-    std::vector<size_t> displacedBy(shape.positions.size(), kUnselected);
+    // The preconditioner smooths a gradient given per vertex and direction: one parameter per
+    // displaced vertex and direction (a free vertex's x, y and z).
+    std::map<std::array<float, 3>, std::vector<size_t>> displacedBy;  // direction -> per vertex
     for (size_t i : moving) {
       const Parameter& p = m_x.scene.parameters[m_x.parameters[i].sceneIndex];
       if (p.kind != ParameterKind::Displace || p.vertices.size() != 1)
@@ -474,11 +477,14 @@ class ExperimentParser {
                         (p.kind == ParameterKind::Displace ? " of " + std::to_string(p.vertices.size()) + " vertices" : "") +
                         ") moves shape " + inQuotes(shape.name) +
                         ": large steps needs every optimised parameter of the shape to displace one vertex");
-      size_t& other = displacedBy[p.vertices.front()];
+      const glm::vec3 direction = glm::normalize(p.axis);  // heights: the heightfield's scaled up
+      std::vector<size_t>& along = displacedBy[{direction.x, direction.y, direction.z}];
+      if (along.empty()) along.assign(shape.positions.size(), kUnselected);
+      size_t& other = along[p.vertices.front()];
       if (other != kUnselected)
         shapeField.fail("vertex " + std::to_string(p.vertices.front()) + " of shape " + inQuotes(shape.name) +
                         " is displaced by both " + inQuotes(m_x.parameters[other].name) + " and " + inQuotes(p.name) +
-                        ": large steps needs one parameter per vertex");
+                        " along one direction: large steps needs one parameter per vertex and direction");
       other = i;
     }
     m_x.preconditioner = spec;

@@ -173,15 +173,32 @@ void preconditionGradient(const Experiment& experiment, std::vector<double>& gra
   requireLength("preconditioner: gradient", gradient.size(), experiment.parameters.size());
   const PreconditionerSpec& spec = *experiment.preconditioner;
   const Shape& shape = experiment.scene.shapes.at(spec.shape);
-  std::vector<double> perVertex(shape.positions.size(), 0.0);
+  // One field per direction: (I + λ L)⁻¹ acts on each coordinate of a displacement alone, so the
+  // x, y and z parameters of free vertex positions are smoothed as the xyz field they make.
+  struct Entry {
+    size_t parameter;
+    uint32_t vertex;
+    size_t direction;
+  };
+  std::vector<glm::vec3> directions;
+  std::vector<Entry> entries;
   forEachDisplacement(experiment, spec.shape, [&](size_t i, const Parameter& p) {
     if (p.vertices.size() != 1)
       fail("", "preconditioner", "parameter \"" + p.name + "\" displaces " + std::to_string(p.vertices.size()) +
                                      " vertices; large steps needs one vertex per parameter");
-    perVertex[p.vertices.front()] = gradient[i];
+    const glm::vec3 direction = glm::normalize(p.axis);  // heights: the heightfield's scaled up
+    auto it = std::find(directions.begin(), directions.end(), direction);
+    if (it == directions.end()) it = directions.insert(directions.end(), direction);
+    entries.push_back({i, p.vertices.front(), size_t(it - directions.begin())});
   });
-  solveLargeSteps(shape.triangles, perVertex.size(), spec.lambda, perVertex);
-  forEachDisplacement(experiment, spec.shape, [&](size_t i, const Parameter& p) { gradient[i] = perVertex[p.vertices.front()]; });
+  for (size_t d = 0; d < directions.size(); ++d) {
+    std::vector<double> perVertex(shape.positions.size(), 0.0);
+    for (const Entry& e : entries)
+      if (e.direction == d) perVertex[e.vertex] = gradient[e.parameter];
+    solveLargeSteps(shape.triangles, perVertex.size(), spec.lambda, perVertex);
+    for (const Entry& e : entries)
+      if (e.direction == d) gradient[e.parameter] = perVertex[e.vertex];
+  }
 }
 
 }  // namespace vktg

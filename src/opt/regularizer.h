@@ -31,9 +31,10 @@ void solveLargeSteps(std::span<const glm::uvec3> triangles, size_t vertexCount, 
 double regularization(const Experiment& experiment, const std::vector<double>& theta, std::vector<double>& gradient);
 
 // Applies the experiment's large-steps preconditioner, if it has one, to `gradient` in place: the
-// entries of the parameters that displace vertices of its shape (one vertex each, checked by the
-// parser) are gathered per vertex (0 where no parameter moves a vertex), smoothed by
-// solveLargeSteps and scattered back. Other entries are unchanged.
+// entries of the parameters that displace vertices of its shape (one vertex each, and one parameter
+// per vertex and direction, checked by the parser) are gathered per vertex into one field per
+// direction (0 where no parameter moves a vertex), each smoothed by solveLargeSteps and scattered
+// back. Other entries are unchanged.
 void preconditionGradient(const Experiment& experiment, std::vector<double>& gradient);
 
 }  // namespace vktg

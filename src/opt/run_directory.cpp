@@ -154,18 +154,22 @@ bool writeOptimizedScene(const fs::path& path, const Experiment& experiment, con
   std::map<std::string, double> values;
   for (size_t k = 0; k < experiment.parameters.size(); ++k) values[experiment.parameters[k].name] = theta.at(k);
   for (nlohmann::ordered_json& p : scene["parameters"]) {
-    if (p.value("type", "") == "heightfield_heights") {
-      const std::string prefix = p.value("name_prefix", p.value("shape", "") + "_h");
-      nlohmann::ordered_json& list = p["values"];
-      for (uint32_t k = 0;; ++k) {
-        auto it = values.find(prefix + std::to_string(k));
-        if (it == values.end()) {
-          if (list.is_null()) p.erase("values");
-          break;
-        }
+    const std::string shapeName = p.value("shape", "");
+    const VertexExpansion expansion = vertexExpansion(p.value("type", ""), shapeName);
+    if (!expansion.suffixes.empty()) {
+      // Every expanded parameter the experiment optimised, at its place in `values`.
+      const auto shape = std::find_if(experiment.scene.shapes.begin(), experiment.scene.shapes.end(),
+                                      [&](const Shape& s) { return s.name == shapeName; });
+      const size_t count = shape == experiment.scene.shapes.end() ? 0 : shape->positions.size() * expansion.suffixes.size();
+      const std::string prefix = p.value("name_prefix", expansion.defaultPrefix);
+      for (size_t i = 0; i < count; ++i) {
+        const size_t vertex = i / expansion.suffixes.size();
+        auto it = values.find(prefix + std::to_string(vertex) + expansion.suffixes[i % expansion.suffixes.size()]);
+        if (it == values.end()) continue;
+        nlohmann::ordered_json& list = p["values"];
         if (list.is_null()) list = nlohmann::ordered_json::array();
-        while (list.size() <= k) list.push_back(0.0);
-        list[k] = list[k].get<double>() + it->second;
+        while (list.size() < count) list.push_back(0.0);
+        list[i] = list[i].get<double>() + it->second;
       }
     } else if (auto it = values.find(p.value("name", "")); it != values.end()) {
       p["value"] = p.value("value", 0.0) + it->second;
@@ -205,13 +209,14 @@ void writeRunFigures(const fs::path& directory, const Experiment& experiment,
     error.series.push_back({"", iterations, column("parameter_error")});
     writeLinePlot(directory / "parameter_error.png", error);
   }
-  // Heightfields whose every height is optimised with a known truth.
+  // Heightfields whose every height is optimised with a known truth (one parameter per vertex: a
+  // vertex moved along several directions has no one height to draw).
   for (uint32_t s = 0; s < experiment.scene.shapes.size(); ++s) {
     const Shape& shape = experiment.scene.shapes[s];
     if (shape.grid.x == 0) continue;
     const size_t count = size_t(shape.grid.x) * shape.grid.y;
     std::vector<double> recovered(count, 0.0), truth(count, 0.0);
-    std::vector<bool> seen(count, false);
+    std::vector<uint32_t> seen(count, 0);
     for (size_t k = 0; k < experiment.parameters.size(); ++k) {
       const ExperimentParameter& ep = experiment.parameters[k];
       const Parameter& p = experiment.scene.parameters[ep.sceneIndex];
@@ -219,9 +224,9 @@ void writeRunFigures(const fs::path& directory, const Experiment& experiment,
       const uint32_t v = p.vertices[0];
       recovered[v] = theta[k];
       truth[v] = *ep.truth;
-      seen[v] = true;
+      ++seen[v];
     }
-    if (std::count(seen.begin(), seen.end(), true) != std::ptrdiff_t(count)) continue;
+    if (std::count(seen.begin(), seen.end(), 1u) != std::ptrdiff_t(count)) continue;
     writeHeightfieldComparison(directory / ("heightfield_" + shape.name + ".png"), shape.grid.x, shape.grid.y, recovered,
                                truth);
   }

@@ -97,6 +97,12 @@ bool isValidParameterName(const std::string& name) {
   });
 }
 
+VertexExpansion vertexExpansion(const std::string& type, const std::string& shape) {
+  if (type == "heightfield_heights") return {{""}, shape + "_h"};
+  if (type == "vertex_positions") return {{"_x", "_y", "_z"}, shape + "_v"};
+  return {};
+}
+
 bool isGeometric(ParameterKind kind) { return movesVertices(kind) || kind == ParameterKind::LightPosition; }
 
 bool isGeometric(const Parameter& parameter) { return isGeometric(parameter.kind); }

@@ -284,10 +284,10 @@ class SceneParser {
   // checked for a derivative that is not identically zero (parameterProblem).
   void parseParameter(const JsonValue& value) {
     const std::string type =
-        typeOf(value, {"translate", "rotate", "displace", "heightfield_heights", "light_position", "emission",
-                       "intensity", "albedo", "roughness", "ior", "gate_center"});
-    if (type == "heightfield_heights") {
-      parseHeightfieldHeights(value);
+        typeOf(value, {"translate", "rotate", "displace", "heightfield_heights", "vertex_positions", "light_position",
+                       "emission", "intensity", "albedo", "roughness", "ior", "gate_center"});
+    if (type == "heightfield_heights" || type == "vertex_positions") {
+      parseVertexExpansion(value, type == "heightfield_heights");
       return;
     }
 
@@ -346,7 +346,7 @@ class SceneParser {
     m_scene.parameters.push_back(std::move(p));
   }
 
-  // Parameters given a `value` (heightfield_heights: `values`) start there: the scene is moved as
+  // Parameters given a `value` (the expanding types: `values`) start there: the scene is moved as
   // applyParameters would move it, in declaration order, and θ = 0 is that scene (how an optimised
   // scene is written back).
   void applyValues() {
@@ -364,32 +364,42 @@ class SceneParser {
     if (!values.empty()) m_scene = applyParameters(m_scene, values);
   }
 
-  // {"type": "heightfield_heights", "shape": S, "name_prefix": P}: one displacement parameter P<k>
-  // per vertex k of heightfield S, so that θ_k is added to heights[k] of the file.
-  void parseHeightfieldHeights(const JsonValue& value) {
+  // {"type": "heightfield_heights" or "vertex_positions", "shape": S, "name_prefix": P, "values": [...]}:
+  // one displacement parameter per vertex and direction (vertexExpansion). Heights move along the
+  // heightfield's transformed +y, so that θ_k is added to heights[k] of the file; positions along
+  // the world axes, for any shape (free-form mesh recovery). `values`: every expanded parameter's
+  // value, in the expansion's order.
+  void parseVertexExpansion(const JsonValue& value, bool heights) {
     const JsonObject o(value, {"type", "shape", "name_prefix", "values"});
     const JsonValue shapeField = o.field("shape");
     const std::string shapeName = shapeField.string();
     const Shape* shape = findShape(shapeName);
     if (!shape) shapeField.fail("unknown shape \"" + shapeName + "\"");
-    const auto up = m_heightfieldUp.find(shapeName);
-    if (up == m_heightfieldUp.end()) shapeField.fail("shape \"" + shapeName + "\" is not a heightfield");
-    const std::string prefix = o.string("name_prefix", shapeName + "_h");
+    const VertexExpansion expansion = vertexExpansion(heights ? "heightfield_heights" : "vertex_positions", shapeName);
+    std::vector<glm::vec3> directions = {glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1)};
+    if (heights) {
+      const auto up = m_heightfieldUp.find(shapeName);
+      if (up == m_heightfieldUp.end()) shapeField.fail("shape \"" + shapeName + "\" is not a heightfield");
+      directions = {up->second};
+    }
+    const std::string prefix = o.string("name_prefix", expansion.defaultPrefix);
     const JsonValue where = o.has("name_prefix") ? o.field("name_prefix") : value;
     if (!isValidParameterName(prefix))
       where.fail("invalid name prefix \"" + prefix + "\" (use letters, digits, '_', '-' and '.')");
+    const size_t count = shape->positions.size() * directions.size();
     std::vector<double> values;
-    if (o.has("values")) values = o.field("values").numbers(shape->positions.size());
-    for (uint32_t k = 0; k < shape->positions.size(); ++k) {
+    if (o.has("values")) values = o.field("values").numbers(count);
+    for (size_t i = 0; i < count; ++i) {
+      const uint32_t k = uint32_t(i / directions.size());
       Parameter p;
-      p.name = prefix + std::to_string(k);
+      p.name = prefix + std::to_string(k) + expansion.suffixes[i % directions.size()];
       p.kind = ParameterKind::Displace;
       p.target = shapeName;
-      p.axis = up->second;
+      p.axis = directions[i % directions.size()];
       p.vertices = {k};
       claimParameterName(where, p.name);
-      if (!values.empty() && values[k] != 0.0)
-        m_values.push_back({uint32_t(m_scene.parameters.size()), values[k], o.pathOf("values") + "[" + std::to_string(k) + "]"});
+      if (!values.empty() && values[i] != 0.0)
+        m_values.push_back({uint32_t(m_scene.parameters.size()), values[i], o.pathOf("values") + "[" + std::to_string(i) + "]"});
       m_scene.parameters.push_back(std::move(p));
     }
   }
