@@ -76,5 +76,26 @@ TEST(CliBenchOptimize, RowsAreHandedOverAsTheyAreMeasured) {
   EXPECT_EQ(csv.find("\n3,9,"), csv.find('\n')) << csv;
 }
 
+// --positions: every vertex's x, y and z are parameters (a vertex_positions entry), three per vertex,
+// and every term's gradient with respect to all of them is timed.
+TEST(CliBenchOptimize, PositionsAreThreeParametersPerVertex) {
+  TempDir dir;
+  BenchOptimizeOptions options;
+  options.sizes = {3};
+  options.runs = 1;
+  options.scale = 0.125;
+  options.interiorPasses = 1;
+  options.positions = true;
+  options.outDir = dir / "bench";
+  const BenchOptimizeReport report = benchOptimize(testContext(), options);
+  ASSERT_EQ(report.rows.size(), 1u);
+  const BenchOptimizeRow& row = report.rows[0];
+  EXPECT_EQ(row.parameters, 27u);
+  for (double seconds : {row.renderSeconds, row.interiorSeconds, row.edgeSeconds, row.boundarySeconds, row.allSeconds,
+                         row.pilotAllSeconds, row.denseSeconds})
+    EXPECT_TRUE(std::isfinite(seconds) && seconds > 0) << seconds;
+  EXPECT_EQ(row.denseLanes, 8u);
+}
+
 }  // namespace
 }  // namespace vktg::test

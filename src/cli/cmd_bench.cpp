@@ -51,6 +51,7 @@ const CommandSpec& benchSpec() {
                   "optimize, nee, trace: heightfield vertices per side (default 11,100,1000; nee 17,257,725; trace 257,725)"},
                  {"--no-path-length", "", "optimize: leave out the path-length-boundary term"},
                  {"--profile", "", "optimize: device time per pass of the render and of every gradient variant (last run)"},
+                 {"--positions", "", "optimize: every vertex's x, y and z as parameters (3 n^2: free-form geometry) instead of its height"},
                  {"--interior-passes", "M",
                   "optimize: also time an iteration whose render takes 1/M of the samples and whose interior term runs in M "
                   "chained passes (default 4; 1 leaves it out; M must divide the samples per pixel)"},
@@ -126,6 +127,7 @@ int runBench(const std::vector<std::string>& argv) {
     static_cast<BenchOptions&>(bench) = options;
     if (auto sizes = args.get("--sizes")) bench.sizes = parseSizes(*sizes);
     bench.pathLength = !args.has("--no-path-length");
+    bench.positions = args.has("--positions");
     bench.profile = args.has("--profile");
     bench.interiorPasses = args.count("--interior-passes", 1, 64).value_or(bench.interiorPasses);
     benchOptimize(*context, bench, [&](const BenchOptimizeReport& report) {

@@ -24,10 +24,11 @@ namespace vktg {
 namespace {
 
 // An n x n heightfield, 2 m on a side, with smooth bumps, seen from above by a pinhole with a point
-// light beside it; one displacement parameter per vertex along +y (as heightfield_heights makes).
+// light beside it; one displacement parameter per vertex along +y (as heightfield_heights makes),
+// or with `positions` three, along x, y and z (as vertex_positions makes: free-form geometry).
 // A box gate around the direct returns, so that all three terms have work: interior, edges
 // (silhouettes and shadows of the bumps) and the gate's jumps (path-length boundary).
-Scene heightfieldScene(uint32_t n, uint32_t resolution, uint32_t spp) {
+Scene heightfieldScene(uint32_t n, uint32_t resolution, uint32_t spp, bool positions) {
   Scene scene;
   scene.materials.push_back({"ground", MaterialType::Diffuse, 0.6f});
   std::vector<float> heights(size_t(n) * n);
@@ -51,17 +52,20 @@ Scene heightfieldScene(uint32_t n, uint32_t resolution, uint32_t spp) {
   scene.gate = boxGate(4.4, 5.2);
   scene.render.spp = spp;
   scene.render.maxDepth = 4;
-  for (uint32_t k = 0; k < n * n; ++k) {
-    Parameter p;
-    // Appended rather than "h" + std::to_string(k), which GCC 12 flags with a false -Wrestrict.
-    p.name = "h";
-    p.name += std::to_string(k);
-    p.kind = ParameterKind::Displace;
-    p.target = "terrain";
-    p.axis = glm::vec3(0, 1, 0);
-    p.vertices = {k};
-    scene.parameters.push_back(std::move(p));
-  }
+  const VertexExpansion expansion = vertexExpansion(positions ? "vertex_positions" : "heightfield_heights", "terrain");
+  for (uint32_t k = 0; k < n * n; ++k)
+    for (size_t axis = 0; axis < expansion.suffixes.size(); ++axis) {
+      Parameter p;
+      // Appended rather than "h" + std::to_string(k), which GCC 12 flags with a false -Wrestrict.
+      p.name = expansion.defaultPrefix;
+      p.name += std::to_string(k);
+      p.name += expansion.suffixes[axis];
+      p.kind = ParameterKind::Displace;
+      p.target = "terrain";
+      p.axis[positions ? int(axis) : 1] = 1.0f;
+      p.vertices = {k};
+      scene.parameters.push_back(std::move(p));
+    }
   return scene;
 }
 
@@ -69,23 +73,36 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The images a loss is formed from: I(θ), and a target T rendered with the heights moved by up to
-// 3 cm in a smooth pattern, so that the gradient the terms add up to is a loss's and the term pilot
-// weighs their variances as an optimisation would. Both at 4x the render's samples; the scene is
-// left at θ.
+// Where the bench's target puts the n x n heightfield's parameters: heights (y) moved by up to
+// 3 cm in a smooth pattern over the vertices; x and z (--positions) by up to a fifth of the grid
+// spacing, which keeps the surface from folding over itself (a tangled target would make the SAH
+// check rebuild the tree for it, and the renders at θ slower through that tree).
+std::vector<double> targetMotion(const Scene& scene, uint32_t n) {
+  const double tangential = std::min(0.03, 0.2 * 2.0 / double(n - 1));
+  std::vector<double> motion;
+  for (const Parameter& p : scene.parameters) {
+    const int axis = p.axis.x != 0 ? 0 : p.axis.y != 0 ? 1 : 2;
+    motion.push_back((axis == 1 ? 0.03 : tangential) * std::sin(0.37 * double(p.vertices.at(0)) + double(axis) - 1.0));
+  }
+  return motion;
+}
+
+// The images a loss is formed from: I(θ), and a target T rendered with the parameters moved by
+// `motion`, so that the gradient the terms add up to is a loss's and the term pilot weighs their
+// variances as an optimisation would. Both at 4x the render's samples; the scene is left at θ.
 struct LossImages {
   ImageSet atTheta, target;
 };
 
 LossImages lossImages(Renderer& renderer, DeviceScene& device, const RenderSetup& setup, const RenderOptions& options,
-                      const std::vector<double>& theta) {
+                      const std::vector<double>& theta, const std::vector<double>& motion) {
   RenderSetup fine = setup;
   fine.settings.spp *= 4;
   fine.settings.seed = 11;
   LossImages images;
   images.atTheta = renderer.render(device, fine, options).mean;
   std::vector<double> moved(theta.size());
-  for (size_t k = 0; k < moved.size(); ++k) moved[k] = theta[k] + 0.03 * std::sin(0.37 * double(k));
+  for (size_t k = 0; k < moved.size(); ++k) moved[k] = theta[k] + motion[k];
   device.update(moved, true);
   fine.settings.seed = 12;
   images.target = renderer.render(device, fine, options).mean;
@@ -147,8 +164,8 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
   for (uint32_t n : options.sizes) {
     BenchOptimizeRow row;
     row.size = n;
-    row.parameters = uint64_t(n) * n;
-    const Scene scene = heightfieldScene(n, resolution, spp);
+    const Scene scene = heightfieldScene(n, resolution, spp, options.positions);
+    row.parameters = scene.parameters.size();
     row.triangles = scene.triangleCount();
     options.say("heightfield " + std::to_string(n) + "x" + std::to_string(n) + ": " + std::to_string(row.parameters) +
         " parameters, " + std::to_string(row.triangles) + " triangles");
@@ -163,7 +180,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     RenderSetup setup = RenderSetup::of(scene);
     RenderOptions renderOptions;
     renderOptions.memoryBudget = options.memoryBudget;
-    const LossImages loss = lossImages(renderer, device, setup, renderOptions, theta);
+    const LossImages loss = lossImages(renderer, device, setup, renderOptions, theta, targetMotion(scene, n));
     const ImageSet& target = loss.target;
     const ImageSet adjoint = l2Adjoint(loss.atTheta, target);
     const std::vector<AdjointView> views = {{setup, {}, &adjoint}};
@@ -300,7 +317,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
 
     char line[512];
     std::snprintf(line, sizeof line,
-                  "  render %.4f s; adjoint gradient of all %llu heights: interior %.2fx, edges %.2fx, path-length "
+                  "  render %.4f s; adjoint gradient of all %llu parameters: interior %.2fx, edges %.2fx, path-length "
                   "boundary %.2fx, all %.2fx (%.2fx tracing the interior and boundary terms apart) the render; update %.4f s (+ %.4f s SAH check); iteration %.2fx",
                   row.renderSeconds, (unsigned long long)row.parameters, row.interiorSeconds / row.renderSeconds,
                   row.edgeSeconds / row.renderSeconds, row.boundarySeconds / row.renderSeconds,
@@ -328,7 +345,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     report.rows.push_back(row);
     if (rowDone) rowDone(report);
 
-    // Forward-mode lanes for a few heights: their passes' time (the scene build excluded).
+    // Forward-mode lanes for a few parameters: their passes' time (the scene build excluded).
     BenchOptimizeRow& kept = report.rows.back();
     kept.denseLanes = uint32_t(std::min<uint64_t>(8, row.parameters));
     std::vector<std::string> names;
@@ -340,7 +357,7 @@ BenchOptimizeReport benchOptimize(VulkanContext& context, const BenchOptimizeOpt
     for (uint32_t run = 0; run < options.runs; ++run)
       denseTimes.push_back(renderGradient(renderer, scene, names, dense).stats.seconds);
     kept.denseSeconds = median(denseTimes);
-    std::snprintf(line, sizeof line, "  forward lanes for %u heights %.2fx the render", kept.denseLanes,
+    std::snprintf(line, sizeof line, "  forward lanes for %u parameters %.2fx the render", kept.denseLanes,
                   kept.denseSeconds / kept.renderSeconds);
     options.say(line);
     if (rowDone) rowDone(report);
@@ -375,7 +392,7 @@ void writeBenchOptimizeReport(const BenchOptimizeReport& report, const BenchOpti
      << "with the target at θ, where the optimisation ends).\n\n"
      << "| heightfield | parameters | triangles | render | interior | edges | path-length boundary | all terms run "
         "| all, apart | update | SAH check | iteration | pilot spp (edge, boundary, camera), variance | all terms, pilot "
-        "| iteration, pilot | iteration, pilot, chained (variance; with the target at θ) | forward lanes (heights) |\n"
+        "| iteration, pilot | iteration, pilot, chained (variance; with the target at θ) | forward lanes (parameters) |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto ratio = [](double seconds, double render) {
     if (std::isnan(seconds)) return std::string("skipped");

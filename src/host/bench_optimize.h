@@ -22,11 +22,14 @@ struct BenchOptimizeOptions : BenchOptions {
   // Chained interior passes (host/gradient.h AdjointChain): an iteration whose render takes spp /
   // interiorPasses samples and whose interior term runs in that many passes (1: not measured).
   uint32_t interiorPasses = 4;
+  // Every vertex's x, y and z (3 n^2 parameters: free-form geometry, a vertex_positions entry)
+  // instead of its height.
+  bool positions = false;
 };
 
 struct BenchOptimizeRow {
   uint32_t size = 0;              // n
-  uint64_t parameters = 0;        // n^2
+  uint64_t parameters = 0;        // n^2 (heights) or 3 n^2 (positions)
   uint64_t triangles = 0;
   double buildSeconds = 0;        // device scene: prepare, BVH, upload (once)
   double updateSeconds = 0;       // per iteration: move vertices, refit on the device, tables
