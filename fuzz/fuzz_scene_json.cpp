@@ -2,7 +2,7 @@
 // touches a device (prepareScene: flattening, light CDF, BVH build). Relative mesh paths resolve in
 // tests/data, so inputs naming its glTF files reach the glTF loader through the `mesh` shape.
 // Every input must end in a Scene or one vktg::Error; anything else is a finding.
-// vktg-fuzz-seeds: scenes/*.json
+// vktg-fuzz-seeds: scenes/*.json tests/data/optimize/terrain_free.json
 #include <cstddef>
 #include <cstdint>
 #include <string>

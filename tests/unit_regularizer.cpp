@@ -250,22 +250,16 @@ TEST(ExperimentPreconditioner, SmoothsTheShapesEntriesOnly) {
 
 // Free vertex positions (a vertex_positions entry: x, y and z parameters per vertex): the
 // preconditioner smooths each direction's entries as a field of its own, which is (I + λ L)⁻¹
-// applied to the xyz gradient field.
-class FreeVertexPositions : public test::TempDirTest {};
-
-TEST_F(FreeVertexPositions, PreconditionerSmoothsEachDirectionApart) {
-  nlohmann::json scene = nlohmann::json::parse(test::readAll(kData / "terrain.json"));
-  scene["parameters"] = {{{"type", "vertex_positions"}, {"shape", "terrain"}, {"name_prefix", "v"}},
-                         {{"name", "grey"}, {"type", "albedo"}, {"material", "ground"}}};
-  test::writePlain(m_dir / "free.json", scene.dump());
-  test::writePlain(m_dir / "front.exr", test::readAll(kData / "front.exr"));
+// applied to the xyz gradient field. Heights and coordinates of one vertex together are refused:
+// h5 and v5_y move vertex 5 along one direction.
+TEST(FreeVertexPositions, PreconditionerSmoothsEachDirectionApart) {
   const nlohmann::json experiment = {
       {"version", 1},
-      {"scene", "free.json"},
+      {"scene", "terrain_free.json"},
       {"parameters", {{{"name", "v*"}}, {{"name", "grey"}}}},
       {"targets", {{{"image", "front.exr"}}}},
       {"preconditioner", {{"type", "large_steps"}, {"shape", "terrain"}, {"lambda", 3}}}};
-  const Experiment x = parseExperimentJson(experiment.dump(), "free.experiment.json", m_dir);
+  const Experiment x = parseExperimentJson(experiment.dump(), "free.experiment.json", kData);
   ASSERT_EQ(x.parameters.size(), 49u);
   std::vector<double> gradient(x.parameters.size());
   for (size_t i = 0; i < gradient.size(); ++i) gradient[i] = std::cos(double(i) * 0.7);
@@ -278,6 +272,10 @@ TEST_F(FreeVertexPositions, PreconditionerSmoothsEachDirectionApart) {
     for (size_t v = 0; v < 16; ++v) EXPECT_NEAR(preconditioned[3 * v + axis], field[v], 1e-12) << x.parameters[3 * v + axis].name;
   }
   EXPECT_EQ(preconditioned[48], gradient[48]);
+  nlohmann::json both = experiment;
+  both["parameters"].push_back({{"name", "h5"}});
+  expectError([&] { parseExperimentJson(both.dump(), "free.experiment.json", kData); },
+              {"preconditioner.shape", "displaced by both \"v5_y\" and \"h5\" along one direction"});
 }
 
 }  // namespace

@@ -239,16 +239,11 @@ TEST_F(RunFiles, ResumedLogErrors) {
 // `values`, also when only some of the entry's parameters were optimised, and loads as the scene
 // moved by θ.
 TEST_F(RunFiles, OptimisedSceneWritesTheValuesOfExpandedParameters) {
-  nlohmann::json scene = nlohmann::json::parse(readAll(kData / "terrain.json"));
-  scene["parameters"] = {{{"type", "heightfield_heights"}, {"shape", "terrain"}, {"name_prefix", "h"}},
-                         {{"type", "vertex_positions"}, {"shape", "terrain"}, {"name_prefix", "v"}}};
-  writePlain(m_dir / "free.json", scene.dump());
-  writePlain(m_dir / "front.exr", readAll(kData / "front.exr"));
   const nlohmann::json experiment = {{"version", 1},
-                                     {"scene", "free.json"},
+                                     {"scene", "terrain_free.json"},
                                      {"parameters", {{{"name", "h7"}}, {{"name", "v5_*"}}}},
                                      {"targets", {{{"image", "front.exr"}}}}};
-  const Experiment x = parseExperimentJson(experiment.dump(), "free.experiment.json", m_dir);
+  const Experiment x = parseExperimentJson(experiment.dump(), "free.experiment.json", kData);
   ASSERT_EQ(x.parameters.size(), 4u);
   const std::vector<double> theta = {0.25, 0.125, -0.5, 0.0625};  // h7, v5_x, v5_y, v5_z
   ASSERT_TRUE(writeOptimizedScene(m_dir / "out.json", x, theta));
