@@ -38,9 +38,19 @@
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform Push { PassPush push; };
 
-// How far from the edge the traced rays pass, in ray epsilons: far enough that neither of the
-// edge's own faces is hit by rounding, near enough to see what the boundary segment sees.
-const float kEdgeOffsetEpsilons = 8.0;
+// How far from the edge the traced rays pass, in ray epsilons. A boundary segment is the limit of
+// the rays beside the edge as they close in on it, and whatever lies within the offset's reach of
+// that limit is seen wrongly: a box 5 cm above a floor, under a light, casts the shadow of its
+// bottom edge 0.6 mm beside where the ray past that edge meets the floor, and 8 ray epsilons
+// (1 mm in that scene) jumped the shadow, so the silhouette counted the lit floor and the shadow's
+// own boundary counted the same jump again (docs/theory.md 3.3, "Rays beside an edge"). So the
+// offset is a small fraction of a ray epsilon, and the edge's own faces, which lie wholly on the
+// other side of the boundary plane and so are never really hit from this side, are skipped by
+// name (traceClosestPastFaces) rather than by distance.
+const float kEdgeOffsetEpsilons = 1.0 / 16.0;
+// How far in front of the edge an occluder must be to hide it from the camera, in ray epsilons:
+// rounding must not let the edge's own faces, which the line onto it meets at the edge, count.
+const float kHiddenMarginEpsilons = 8.0;
 const uint kRngDimEdgeWalk = 8u;  // + walk step: the camera side's numbers (stream kNoPixel)
 // Strategy probabilities: shadows of direct light are usually the largest secondary share and the
 // uniform direction rarely finds a small light, hence the split: 7, 9 and 4 blocks of a cycle of 20.
@@ -110,6 +120,19 @@ bool traceBesideEdge(uint edge, vec3 origin, vec3 dir, out HitRecord hit) {
   return traceClosest(origin, dir, eps, kInfinity, hit);
 }
 
+// The closest hit past the edge's own faces (traceClosest otherwise): from the side of the boundary
+// plane away from them they are met only by rounding, however near the ray passes.
+bool traceClosestPastFaces(uint edge, vec3 origin, vec3 dir, float tMin, out HitRecord hit) {
+  uvec2 faces = edgeFaces[edge].zw;
+  for (uint attempt = 0u; attempt < 3u; ++attempt) {
+    if (!traceClosest(origin, dir, tMin, kInfinity, hit)) return false;
+    uint triangle = floatBitsToUint(hit.tuvTriangle.w);
+    if (triangle != faces.x && triangle != faces.y) return true;
+    tMin = hit.tuvTriangle.x;
+  }
+  return false;
+}
+
 // Hands slot `slot` to shade: the path stands at `from` (vertex `depth`, reached over length
 // `len`) and its next segment, the boundary segment or the ray beside it, ends at `hit`.
 void startEdgePath(uint slot, vec3 from, vec3 before, uint fromTriangle, vec3 fromNormal, float len, vec3 dir,
@@ -165,7 +188,7 @@ void primarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3
   float weight = importance * sinPhi / (dA * dA * pY * kPrimaryProbability);
   if (crease) {
     // The line onto the crease meets its faces only at y: anything it hits before is in front.
-    if (traceAny(c, w, eps, dA - offset)) return;
+    if (traceAny(c, w, eps, dA - kHiddenMarginEpsilons * eps)) return;
     atomicAdd(counters[kCounterEdgeConnected], 1u);
     // Both sides see a face: the one n_p points to gets -v_y.n_p, the other +v_y.n_p.
     startRayFormSide(2u * i, edge, t, np, -1.0, c, normalize(y + offset * np - c), weight, pixel, sampleIndex);
@@ -174,8 +197,8 @@ void primarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3
   }
   vec3 wVisible = normalize(y + offset * np - c);
   HitRecord hb;
-  bool hitB = traceClosest(c, wVisible, eps, kInfinity, hb);
-  if (hitB && hb.tuvTriangle.x < dA - offset) return;  // something nearer hides the edge
+  bool hitB = traceClosestPastFaces(edge, c, wVisible, eps, hb);
+  if (hitB && hb.tuvTriangle.x < dA - kHiddenMarginEpsilons * eps) return;  // something nearer hides the edge
   atomicAdd(counters[kCounterEdgeConnected], 1u);
   if (hitB) {
     uint tb = floatBitsToUint(hb.tuvTriangle.w);
@@ -299,10 +322,10 @@ struct CameraEnd {
   float len, ior;
 };
 
-bool findCameraEnd(vec3 yv, vec3 w, uint sampleIndex, out CameraEnd a) {
+bool findCameraEnd(uint edge, vec3 yv, vec3 w, uint sampleIndex, out CameraEnd a) {
   a.weight = 0.0;
   HitRecord ha;
-  if (!traceClosest(yv, -w, 0.0, kInfinity, ha)) return false;
+  if (!traceClosestPastFaces(edge, yv, -w, 0.0, ha)) return false;
   a.triangle = floatBitsToUint(ha.tuvTriangle.w);
   a.uv = ha.tuvTriangle.yz;
   a.point = surfacePoint(a.triangle, a.uv);
@@ -320,9 +343,9 @@ void secondarySample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, ve
   atomicAdd(counters[kCounterEdgeSilhouettes], 1u);
   vec3 yv = y + offset * np;
   HitRecord hb;
-  if (!traceClosest(yv, w, 0.0, kInfinity, hb)) return;
+  if (!traceClosestPastFaces(edge, yv, w, 0.0, hb)) return;
   CameraEnd a;
-  if (!findCameraEnd(yv, w, sampleIndex, a)) return;
+  if (!findCameraEnd(edge, yv, w, sampleIndex, a)) return;
   uint tb = floatBitsToUint(hb.tuvTriangle.w);
   // 1 / p_w = 4 pi for the uniform direction.
   float weight = a.weight * sinPhi * 4.0 * kPi / (pY * kSecondaryProbability);
@@ -360,7 +383,7 @@ void toLightSample(uint i, uint sampleIndex, uint edge, GpuEdge e, float t, vec3
   float lightDistance = length(toLight);
   if (lightDistance > 2.0 * eps && traceAny(yv, toLight / lightDistance, eps, lightDistance - eps)) return;
   CameraEnd a;
-  if (!findCameraEnd(yv, w, sampleIndex, a)) return;
+  if (!findCameraEnd(edge, yv, w, sampleIndex, a)) return;
   float dA = distance(y, a.point.position);
   float value = a.weight * ls.emission * sinPhi * cosB / (dB * dB * ls.pdf * pY * kToLightProbability);
   float len = a.len, comp = 0.0;

@@ -38,6 +38,18 @@ TEST(CliGrad, SplitTermsWritesTheEdgeTermBesideTheInterior) {
   EXPECT_GT(edgeMagnitude, 0.0);
 }
 
+TEST(CliGrad, SplitTermsWithNpyWritesEachTermsArray) {
+  TempDir dir;
+  CliResult r = runVktg({"grad", kOccluderScene, "--param", "occluder_x", "--resolution", "4x4", "--spp", "2",
+                         "--spp-edge", "8", "--split-terms", "--npy", "--quiet", "--out", (dir / "g.exr").string()},
+                        {.cwd = dir.path()});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  // (H, W, parameters x layers) float32: a 128-byte header and 4 x 4 x 1 values.
+  for (const char* name : {"g.npy", "g.interior.npy", "g.edge.npy"})
+    EXPECT_EQ(fs::file_size(dir / name), 128u + 16u * 4u) << name;
+  EXPECT_FALSE(fs::exists(dir / "g.pathlength.npy")) << "a gaussian gate has no jumps";
+}
+
 TEST(CliGrad, ExplainSaysWhyThereIsNoEdgePass) {
   TempDir dir;
   CliResult r = runVktg({"grad", kOccluderScene, "--param", "floor_albedo", "--resolution", "4x4", "--spp", "2",

@@ -66,7 +66,7 @@ const CommandSpec& gradSpec() {
         "path-length boundary (the gate's jumps). --explain says which run and why.";
     s.options = derivativeOptions();
     s.options.push_back({"--terms", "LIST", "terms to compute: interior,edge,pathlength (default: those the planner finds needed)"});
-    s.options.push_back({"--split-terms", "", "also write each term's images (FILE.interior.exr, FILE.edge.exr, FILE.pathlength.exr)"});
+    s.options.push_back({"--split-terms", "", "also write each term's images (FILE.interior.exr, FILE.edge.exr, FILE.pathlength.exr; with --npy their .npy too)"});
     s.options.push_back({"--spp-boundary", "N", "samples per pixel of the path-length-boundary pass (default: --spp)"});
     s.options.push_back({"--spp-boundary-camera", "N",
                          "of its connections from the camera, splatted (default: --spp-boundary)"});
@@ -133,7 +133,8 @@ int runGrad(const std::vector<std::string>& argv) {
   std::vector<std::filesystem::path> inputs = {args.positionals[0]};
   const std::optional<Scan> scan = scanOf(args, scene, inputs);
   checkOutputPath(exr, inputs);
-  for (const char* term : {".interior.exr", ".edge.exr", ".pathlength.exr", ".npy"})
+  for (const char* term : {".interior.exr", ".edge.exr", ".pathlength.exr", ".npy", ".interior.npy", ".edge.npy",
+                           ".pathlength.npy"})
     checkOutputPath(withExtension(exr, term), inputs);
   auto context = makeContext(args);
   Renderer renderer(*context);
@@ -152,7 +153,9 @@ int runGrad(const std::vector<std::string>& argv) {
                                        std::pair<const char*, const TermImages*>{"pathlength", &result.pathLength}}) {
       if (images->derivatives.empty()) continue;
       std::filesystem::path split = withExtension(exr, std::string(".") + term + ".exr");
-      writeExr(split, derivativeLayers(names, images->derivatives, scan, scene.camera.type));
+      const ImageSet termLayers = derivativeLayers(names, images->derivatives, scan, scene.camera.type);
+      writeExr(split, termLayers);
+      if (args.has("--npy")) writeNpy(withExtension(exr, std::string(".") + term + ".npy"), termLayers);
       if (!quiet) std::fprintf(stderr, "vktg: wrote %s\n", split.string().c_str());
     }
   }
