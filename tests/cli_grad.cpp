@@ -59,6 +59,22 @@ TEST(CliGrad, ExplainSaysWhyThereIsNoEdgePass) {
   EXPECT_NE(r.out.find("no edge pass: no selected parameter moves geometry"), std::string::npos) << r.describe();
 }
 
+TEST(CliGrad, ExplainNamesAContactBetweenAMovingShapeAndAnother) {
+  TempDir dir;
+  const std::string resting = std::string(VKTG_SOURCE_DIR) + "/tests/data/contact/box_resting.json";
+  const std::string raised = std::string(VKTG_SOURCE_DIR) + "/tests/data/contact/box_raised.json";
+  CliResult r = runVktg({"grad", resting, "--param", "box_x", "--resolution", "4x4", "--spp", "2", "--explain",
+                         "--quiet", "--out", (dir / "a.exr").string()},
+                        {.cwd = dir.path()});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_NE(r.out.find("warning: contact: 5 edges of 'box' lie on 'floor'"), std::string::npos) << r.describe();
+  r = runVktg({"grad", raised, "--param", "box_x", "--resolution", "4x4", "--spp", "2", "--explain", "--quiet",
+               "--out", (dir / "b.exr").string()},
+              {.cwd = dir.path()});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_EQ(r.out.find("contact"), std::string::npos) << r.describe();
+}
+
 TEST(CliGrad, UnknownTermIsAUsageError) {
   TempDir dir;
   CliResult r = runVktg({"grad", kOccluderScene, "--param", "occluder_x", "--terms", "interior,edges", "--out",

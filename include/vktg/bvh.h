@@ -2,6 +2,7 @@
 // traversal the tests use as the reference for shaders/lib/bvh.glsl.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -82,6 +83,9 @@ std::optional<RayHit> traceClosest(const Bvh& bvh, std::span<const BvhTriangle> 
                                    glm::vec3 origin, glm::vec3 dir, float tMin, float tMax);
 bool traceAny(const Bvh& bvh, std::span<const BvhTriangle> triangles, glm::vec3 origin, glm::vec3 dir,
               float tMin, float tMax);
+// Calls visit(i) for every triangle (leaf order) in a leaf whose box the query box [lo, hi] meets:
+// a superset of the triangles that meet it, each once.
+void forEachTriangleNearBox(const Bvh& bvh, glm::vec3 lo, glm::vec3 hi, const std::function<void(uint32_t)>& visit);
 // Brute force over all triangles (tests' ground truth).
 std::optional<RayHit> traceClosestBruteForce(std::span<const BvhTriangle> triangles, glm::vec3 origin,
                                              glm::vec3 dir, float tMin, float tMax);

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <utility>
 
+#include "host/frame_uniforms.h"
 #include "host/planner.h"
+#include "scene/contacts.h"
 #include "vktg/error.h"
 
 namespace vktg {
@@ -33,6 +35,17 @@ void addStats(RenderStats& total, const RenderStats& s) {
   total.sceneTexels = total.sceneTexels || s.sceneTexels;
   total.wideBvh = total.wideBvh || s.wideBvh;
   total.waveTexels = total.waveTexels || s.waveTexels;
+}
+
+// Per shape: whether one of `parameters` (scene.parameters indices) moves its vertices.
+std::vector<bool> shapesMovedBy(const Scene& scene, const std::vector<uint32_t>& parameters) {
+  std::vector<bool> moving(scene.shapes.size(), false);
+  for (uint32_t index : parameters) {
+    const Parameter& p = scene.parameters.at(index);
+    if (!movesVertices(p.kind)) continue;
+    for (size_t s = 0; s < scene.shapes.size(); ++s) moving[s] = moving[s] || scene.shapes[s].name == p.target;
+  }
+  return moving;
 }
 
 void addEffects(ParameterEffects& e, ParameterKind kind) {
@@ -248,6 +261,11 @@ GradientResult renderGradient(Renderer& renderer, const Scene& scene, const std:
   result.plan = planGradient(scene, setup, parameterEffects(scene, parameterIndices(scene, parameters)), options);
   // One upload of the scene serves every term and block.
   DeviceScene deviceScene(renderer.context(), scene);
+  if (result.plan.edges) {
+    const std::vector<ShapeContact> contacts = findContacts(
+        deviceScene.prepared(), shapesMovedBy(scene, parameterIndices(scene, parameters)), surfaceOffset(deviceScene.prepared()));
+    for (std::string& line : describeContacts(scene, contacts)) result.plan.reasons.push_back(std::move(line));
+  }
   std::vector<TermPass> passes = termPasses(result.plan, scene.gate, options);
   if (!result.plan.interior) {
     RenderOptions plain = options.render;

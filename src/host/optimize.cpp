@@ -10,6 +10,7 @@
 #include <numeric>
 #include <optional>
 
+#include "host/frame_uniforms.h"
 #include "host/gradient.h"
 #include "host/interrupt.h"
 #include "host/memory_preflight.h"
@@ -20,6 +21,7 @@
 #include "opt/optimizer.h"
 #include "opt/regularizer.h"
 #include "opt/run_directory.h"
+#include "scene/contacts.h"
 #include "opt/run_files.h"
 #include "opt/target_figures.h"
 #include "scene/seeds.h"
@@ -458,6 +460,10 @@ OptimizeSummary optimize(VulkanContext& context, const OptimizeOptions& options)
       if (options.explain && !explained && options.progress) {
         std::string plan = "gradient plan:\n";
         for (const std::string& r : g.plan.reasons) plan += "  - " + r + "\n";
+        if (g.plan.edges)
+          for (const std::string& r : describeContacts(scene.scene(), findContacts(scene.prepared(), scene.model()->movingShapes(),
+                                                                                    surfaceOffset(scene.prepared()))))
+            plan += "  - " + r + "\n";
         if (chain)
           plan += "  - the adjoint image comes from a render with its own random numbers (seed of use 0); each chained interior\n"
                   "    pass is weighted by the adjoint of that render and the passes before it, never by its own paths (a\n"

@@ -583,6 +583,30 @@ bool traceAny(const Bvh& bvh, std::span<const BvhTriangle> triangles, glm::vec3 
   return traverse<true>(bvh, triangles, origin, dir, tMin, tMax).has_value();
 }
 
+void forEachTriangleNearBox(const Bvh& bvh, glm::vec3 lo, glm::vec3 hi, const std::function<void(uint32_t)>& visit) {
+  if (bvh.nodes.empty()) return;
+  auto meets = [&](glm::vec4 boxLo, glm::vec4 boxHi) {
+    return glm::all(glm::lessThanEqual(glm::vec3(boxLo), hi)) && glm::all(glm::lessThanEqual(lo, glm::vec3(boxHi)));
+  };
+  std::array<uint32_t, kBvhStackSize> stack;
+  uint32_t size = 0, node = 0;
+  while (true) {
+    const gpu::GpuBvhNode& n = bvh.nodes[node];
+    if (uint32_t count = wordOf(n.rightMinCount.w); count > 0) {
+      for (uint32_t i = wordOf(n.rightMaxFirst.w), end = i + count; i < end; ++i) visit(i);
+    } else {
+      bool left = meets(n.leftMinLeftIndex, n.leftMaxRightIndex), right = meets(n.rightMinCount, n.rightMaxFirst);
+      if (left && right) stack[size++] = wordOf(n.leftMaxRightIndex.w);
+      if (left || right) {
+        node = wordOf(left ? n.leftMinLeftIndex.w : n.leftMaxRightIndex.w);
+        continue;
+      }
+    }
+    if (size == 0) break;
+    node = stack[--size];
+  }
+}
+
 std::optional<RayHit> traceClosestBruteForce(std::span<const BvhTriangle> triangles, glm::vec3 origin,
                                              glm::vec3 dir, float tMin, float tMax) {
   PreparedRay ray = prepareRay(origin, dir);
