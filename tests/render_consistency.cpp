@@ -1,8 +1,8 @@
 // Self-consistency of the renderer (DESIGN.md §5): box gates tiling every path length sum to the
 // steady image; a transient stack summed over its bins is the steady image; steady rendering
-// matches an independent brute-force CPU path tracer; ellipsoidal and standard NEE agree on the
-// same gate. Renders being compared use different seeds (independent), and every comparison is a
-// per-pixel z-test (alpha 1e-3, Sidak over pixels) plus a z-test of the image means.
+// matches an independent brute-force CPU path tracer; ellipsoidal NEE and MIS agree with standard
+// NEE on the same gate. Renders being compared use different seeds (independent), and every
+// comparison is a per-pixel z-test (alpha 1e-3, Sidak over pixels) plus a z-test of the image means.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -125,16 +125,17 @@ TEST(RenderConsistency, SteadyMatchesCpuTracer) { expectMatchesCpu(16, 256, 2048
 // a large part of the image, so counting a third segment (or dropping the second) fails.
 TEST(RenderConsistency, SteadyMatchesCpuTracerShallow) { expectMatchesCpu(2, 256, 2048, 310); }
 
-// Ellipsoidal vs standard NEE on one gate. maxDepth stays 16: the gate, not the depth, bounds the
-// paths that matter, so both estimators integrate the same set of paths.
-void expectNeeModesAgree(Scene scene, const std::string& what) {
+// Ellipsoidal (or MIS: BSDF-sampled and ellipsoidal vertices weighted by the power heuristic) vs
+// standard NEE on one gate. maxDepth stays 16: the gate, not the depth, bounds the paths that
+// matter, so both estimators integrate the same set of paths.
+void expectNeeModesAgree(Scene scene, const std::string& what, NeeMode mode = NeeMode::Ellipsoidal) {
   RenderResult standard = render(scene, NeeMode::Standard);
   scene.render.seed += 1000;
-  RenderResult ellipsoidal = render(scene, NeeMode::Ellipsoidal);
-  EXPECT_EQ(ellipsoidal.plan.nee, NeeMode::Ellipsoidal);
-  EXPECT_GT(ellipsoidal.stats.ellipsoidQueries, 0u);
-  expectSameImage(pixelsOf(ellipsoidal.mean), pixelsOf(ellipsoidal.variance), pixelsOf(standard.mean),
-                  pixelsOf(standard.variance), what);
+  RenderResult other = render(scene, mode);
+  EXPECT_EQ(other.plan.nee, mode);
+  EXPECT_GT(other.stats.ellipsoidQueries, 0u);
+  expectSameImage(pixelsOf(other.mean), pixelsOf(other.variance), pixelsOf(standard.mean), pixelsOf(standard.variance),
+                  what);
 }
 
 Scene sensorCornell(uint32_t spp, uint32_t seed) {
@@ -178,6 +179,16 @@ TEST(RenderConsistency, NeeModesAgreePerspectiveGaussian) {
   Scene scene = perspectiveCornell(256, 430);
   scene.gate = gaussianGate(6.5, 0.25);
   expectNeeModesAgree(scene, "perspective, gaussian (6.5, 0.25): ellipsoidal vs standard");
+}
+
+// MIS where the gate holds direct light and indirect bounces (6 to 6.6 m in a 2 m room seen from
+// 3.2 m, with an area and a point light): its weights must sum to one at every depth.
+TEST(RenderConsistency, MisAgreesWithStandardNeePerspectiveBox) {
+  Scene scene = perspectiveCornell(256, 440);
+  scene.gate.type = GateType::Box;
+  scene.gate.a = 6.0;
+  scene.gate.b = 6.6;
+  expectNeeModesAgree(scene, "perspective, box [6, 6.6]: MIS vs standard", NeeMode::Mis);
 }
 
 }  // namespace

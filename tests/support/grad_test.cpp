@@ -195,6 +195,12 @@ Comparison compareWithExact(const PixelEstimate& a, const std::vector<double>& e
   return compare(a, exact, nullptr, 0.0, alpha);
 }
 
+PixelEstimate imageSum(const PixelEstimate& e) {
+  double mean = 0, variance = 0;
+  for (size_t i = 0; i < e.mean.size(); ++i) mean += e.mean[i], variance += e.variance[i];
+  return PixelEstimate{{float(mean)}, {float(variance)}, e.dof};
+}
+
 double signalToNoise(const PixelEstimate& e) {
   double sum = 0;
   size_t n = 0;
@@ -444,6 +450,11 @@ void checkLitPlane(MaterialType type, const std::vector<std::string>& parameters
     std::printf("  %-10s gradient snr %.1f, fd snr %.1f, worst |t| %.2f (fd %.2f s)\n", name.c_str(),
                 signalToNoise(d), signalToNoise(fd.derivative), c.worstT, fd.seconds);
     expectTruncationNegligible(name, halfStep, fd.derivative, d);
+    const PixelEstimate sum = imageSum(d), fdSum = imageSum(fd.derivative);
+    Comparison s = compareEstimates(sum, fdSum, kGradAlpha);
+    EXPECT_EQ(s.rejected, 0u) << name << " image sum vs finite difference: " << s.worst;
+    std::printf("  %-10s image sum %.5g vs fd %.5g: %s\n", name.c_str(), sum.mean[0], fdSum.mean[0], s.worst.c_str());
+    expectTruncationNegligible(name + " sum", imageSum(halfStep), fdSum, sum);
   }
 }
 

@@ -65,6 +65,10 @@ Comparison compareWithExact(const PixelEstimate& a, const std::vector<double>& e
 double studentTwoSidedTail(double t, double dof);
 double studentTwoSidedQuantile(double tail, double dof);
 
+// The sum over pixels as a one-pixel estimate: the pixels' estimates are independent, so their
+// variances add; the dof stays one pixel's (conservative: the sum's variance is better known).
+PixelEstimate imageSum(const PixelEstimate& e);
+
 // Mean over pixels of |mean| / sqrt(variance): how far an estimate stands out of its noise.
 double signalToNoise(const PixelEstimate& e);
 
@@ -113,7 +117,8 @@ void checkConfocal(NeeMode nee, uint32_t spp, uint32_t seed, uint32_t fdSpp);
 
 // Renders the perspective plane (diffuse, conductor or dielectric) with standard NEE and compares
 // the gradient of each of `parameters` (from albedo, emission, plane_z, light_x, roughness, ior)
-// with its finite difference, pixel by pixel.
+// with its finite difference, pixel by pixel and as image sums (whose standard error is about
+// 1/12 of a pixel's relative to the signal: a bias too small for any pixel shows there).
 void checkLitPlane(MaterialType type, const std::vector<std::string>& parameters, uint32_t spp, uint32_t fdSpp);
 
 // A fixed adjoint image for loss-gradient tests: values in [-1, 1) drawn from `seed`, of both
