@@ -37,11 +37,15 @@ function(vktg_embed_shaders target registry_name sources)
         endif()
       endif()
       set(out ${gen_dir}/${name}.spv.h)
+      # Run from the source tree with relative paths: the debug info (-g) names files relative to
+      # the repository, so no source-tree path ends up in the binary.
+      file(RELATIVE_PATH relative_src ${CMAKE_SOURCE_DIR} ${src})
       add_custom_command(
         OUTPUT ${out}
         COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -g -Os
-                -I${CMAKE_SOURCE_DIR}/shaders -I${CMAKE_SOURCE_DIR}/include -I${CMAKE_SOURCE_DIR}/tests/shaders ${define_args}
-                --vn kSpv_${name} --depfile ${out}.d -o ${out} ${src}
+                -Ishaders -Iinclude -Itests/shaders ${define_args}
+                --vn kSpv_${name} --depfile ${out}.d -o ${out} ${relative_src}
+        WORKING_DIRECTORY ${CMAKE_SOURCE_DIR}
         DEPENDS ${src}
         DEPFILE ${out}.d
         COMMENT "glslang ${name}"

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "host/bench_common.h"
+#include "bench/bench_common.h"
 
 namespace vktg {
 namespace {

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "host/bench_optimize.h"
-#include "opt/term_allocation.h"
+#include "bench/bench_optimize.h"
+#include "plan/term_allocation.h"
 #include "support/cli_runner.h"
 #include "support/gpu_context.h"
 
@@ -45,8 +45,9 @@ TEST(CliBenchOptimize, EveryRowTimedAndEveryPassProfiled) {
       EXPECT_TRUE(cells[c] >= kTermPilotMinSpp && cells[c] <= kTermPilotMaxFactor * 2) << row << ": column " << c;
   }
   const std::string log = r.out + r.err;
-  for (const char* pass : {"render: ", "interior/shade_adj", "edges/sample_edges", "boundary/shade_adj",
-                           "boundary-from-camera/connect_camera_boundary_adj", "interior+boundary/shade_adj",
+  // Keyed by the terms' names (plan/terms.h).
+  for (const char* pass : {"render: ", "interior/shade_adj", "edge/sample_edges", "pathlength/shade_adj",
+                           "pathlength-camera/connect_camera_boundary_adj", "interior+pathlength/shade_adj",
                            "interior/accumulate"})
     EXPECT_NE(log.find(pass), std::string::npos) << "no " << pass << " in the profile\n" << log;
 }

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "host/device_scene.h"
+#include "render/device_scene.h"
 #include "support/gpu_context.h"
 #include "support/render_test.h"
 #include "vktg/bvh.h"

@@ -13,8 +13,8 @@
 
 #include <gtest/gtest.h>
 
-#include "host/gradient.h"
-#include "host/interrupt.h"
+#include "grad/gradient.h"
+#include "render/interrupt.h"
 #include "support/grad_test.h"
 #include "support/render_test.h"
 #include "support/room_scene.h"

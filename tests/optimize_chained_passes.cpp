@@ -23,7 +23,7 @@
 
 #include <gtest/gtest.h>
 
-#include "host/gradient.h"
+#include "grad/gradient.h"
 #include "opt/loss.h"
 #include "support/render_test.h"
 #include "support/room_scene.h"

@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "host/gradient.h"
+#include "grad/gradient.h"
 #include "support/render_test.h"
 #include "vktg/parameter_model.h"
 #include "vktg/scene.h"

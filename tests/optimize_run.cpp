@@ -20,11 +20,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "host/interrupt.h"
-#include "host/optimize.h"
+#include "render/interrupt.h"
+#include "optimize/optimize.h"
 #include "opt/run_directory.h"
 #include "opt/run_files.h"
-#include "opt/term_allocation.h"
+#include "plan/term_allocation.h"
 #include "support/cli_runner.h"
 #include "support/gpu_context.h"
 

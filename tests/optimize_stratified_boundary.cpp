@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "host/gradient.h"
+#include "grad/gradient.h"
 #include "support/grad_test.h"
 #include "support/render_test.h"
 #include "support/scoped_env.h"

@@ -9,7 +9,7 @@
 #include <memory>
 #include <optional>
 
-#include "host/renderer.h"
+#include "render/renderer.h"
 #include "support/gpu_context.h"
 #include "support/render_test.h"
 #include "support/test_scenes.h"

@@ -15,9 +15,9 @@
 #include <string>
 #include <unistd.h>
 
-#include "host/memory_arena.h"
-#include "host/memory_guard.h"
-#include "host/memory_preflight.h"
+#include "vk/memory_arena.h"
+#include "vk/memory_guard.h"
+#include "render/memory_preflight.h"
 #include "support/gpu_context.h"
 #include "support/render_test.h"
 #include "support/scoped_env.h"
@@ -41,7 +41,7 @@ void renderOnce(const Scene& scene, uint32_t seed, bool edgeLanes) {
   RenderOptions options;
   if (edgeLanes) {
     options.derivativeLanes = bindParameters(s, {"h27", "h28", "h35", "h36"});
-    options.edges = true;
+    options.term = Term::Edge;
     s.render.spp = 1024;
   }
   const RenderResult r = renderInTest(s, options);

@@ -13,8 +13,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "host/bench_common.h"
-#include "host/nee_pilot.h"
+#include "bench/bench_common.h"
+#include "render/nee_pilot.h"
 #include "support/render_test.h"
 #include "support/test_gates.h"
 #include "support/test_scenes.h"
@@ -130,9 +130,9 @@ TEST(NeePilot, AppliesOnlyWhereTheEstimatorIsOpenAndTheRenderLargeEnough) {
   EXPECT_FALSE(pilotApplies(setup, options, &note));
   EXPECT_TRUE(note.empty()) << "a requested estimator needs no note: " << note;
   options.nee = NeeMode::Auto;
-  options.edges = true;
+  options.term = Term::Edge;
   EXPECT_FALSE(pilotApplies(setup, options));
-  options.edges = false;
+  options.term = Term::Interior;
   setup.gate = Gate{};  // steady
   EXPECT_FALSE(pilotApplies(setup, options));
 }

@@ -15,8 +15,8 @@
 #include <tuple>
 #include <vector>
 
-#include "host/device_scene.h"
-#include "host/gradient.h"
+#include "render/device_scene.h"
+#include "grad/gradient.h"
 #include "support/gpu_context.h"
 #include "support/scoped_env.h"
 #include "vktg/parameter_model.h"

@@ -2,7 +2,7 @@
 // their own queue thread (host/vk_context.h, labelsAreSafe).
 #include <gtest/gtest.h>
 
-#include "host/vk_context.h"
+#include "vk/vk_context.h"
 
 namespace vktg {
 namespace {

@@ -21,7 +21,7 @@
 #include <cstdio>
 #include <string>
 
-#include "host/gradient.h"
+#include "grad/gradient.h"
 #include "support/render_test.h"
 #include "support/test_scenes.h"
 #include "vktg/gate.h"

@@ -5,7 +5,7 @@
 // give: a view that read another's camera, light, seed or pixel range would change bits.
 #include <gtest/gtest.h>
 
-#include "host/gradient.h"
+#include "grad/gradient.h"
 #include "support/render_test.h"
 #include "vktg/parameter_model.h"
 #include "vktg/scene.h"

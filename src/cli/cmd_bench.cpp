@@ -8,13 +8,13 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
-#include "host/bench_bvh.h"
-#include "host/bench_nee.h"
-#include "host/bench_optimize.h"
-#include "host/bench_pilot.h"
-#include "host/bench_trace.h"
-#include "host/bench_grad.h"
-#include "host/bench_render.h"
+#include "bench/bench_bvh.h"
+#include "bench/bench_nee.h"
+#include "bench/bench_optimize.h"
+#include "bench/bench_pilot.h"
+#include "bench/bench_trace.h"
+#include "bench/bench_grad.h"
+#include "bench/bench_render.h"
 
 namespace vktg::cli {
 

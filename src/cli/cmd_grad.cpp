@@ -7,7 +7,7 @@
 #include "cli/commands.h"
 #include "cli/common.h"
 #include "cli/scan_views.h"
-#include "host/gradient.h"
+#include "grad/gradient.h"
 #include "vktg/image_io.h"
 
 namespace vktg::cli {
@@ -111,9 +111,9 @@ int runGrad(const std::vector<std::string>& argv) {
     gradient.interior = gradient.pathLength = gradient.edges = false;
     std::stringstream list(*terms);
     for (std::string term; std::getline(list, term, ',');) {
-      if (term == "interior") gradient.interior = true;
-      else if (term == "pathlength") gradient.pathLength = true;
-      else if (term == "edge") gradient.edges = true;
+      if (term == termName(Term::Interior)) gradient.interior = true;
+      else if (term == termName(Term::PathLength)) gradient.pathLength = true;
+      else if (term == termName(Term::Edge)) gradient.edges = true;
       else throw UsageError("--terms: unknown term '" + term + "' (interior, edge, pathlength)");
     }
   }
@@ -148,14 +148,13 @@ int runGrad(const std::vector<std::string>& argv) {
   ImageSet layers = derivativeLayers(names, result.total.derivatives, scan, scene.camera.type);
   writeExr(exr, layers);
   if (args.has("--split-terms")) {
-    for (const auto& [term, images] : {std::pair<const char*, const TermImages*>{"interior", &result.interior},
-                                       std::pair<const char*, const TermImages*>{"edge", &result.edges},
-                                       std::pair<const char*, const TermImages*>{"pathlength", &result.pathLength}}) {
+    for (const auto& [term, images] : {std::pair{Term::Interior, &result.interior}, std::pair{Term::Edge, &result.edges},
+                                       std::pair{Term::PathLength, &result.pathLength}}) {
       if (images->derivatives.empty()) continue;
-      std::filesystem::path split = withExtension(exr, std::string(".") + term + ".exr");
+      std::filesystem::path split = withExtension(exr, std::string(".") + termName(term) + ".exr");
       const ImageSet termLayers = derivativeLayers(names, images->derivatives, scan, scene.camera.type);
       writeExr(split, termLayers);
-      if (args.has("--npy")) writeNpy(withExtension(exr, std::string(".") + term + ".npy"), termLayers);
+      if (args.has("--npy")) writeNpy(withExtension(exr, std::string(".") + termName(term) + ".npy"), termLayers);
       if (!quiet) std::fprintf(stderr, "vktg: wrote %s\n", split.string().c_str());
     }
   }

@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "cli/commands.h"
-#include "host/vk_context.h"
+#include "vk/vk_context.h"
 
 namespace vktg::cli {
 

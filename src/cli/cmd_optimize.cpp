@@ -5,8 +5,8 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
-#include "host/interrupt.h"
-#include "host/optimize.h"
+#include "render/interrupt.h"
+#include "optimize/optimize.h"
 
 namespace vktg::cli {
 

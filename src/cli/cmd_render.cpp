@@ -7,8 +7,8 @@
 #include "cli/commands.h"
 #include "cli/common.h"
 #include "cli/scan_views.h"
-#include "host/nee_pilot.h"
-#include "host/renderer.h"
+#include "render/nee_pilot.h"
+#include "render/renderer.h"
 #include "vktg/image_io.h"
 
 namespace vktg::cli {

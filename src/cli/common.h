@@ -7,8 +7,8 @@
 #include <string>
 
 #include "cli/args.h"
-#include "host/renderer.h"
-#include "host/vk_context.h"
+#include "render/renderer.h"
+#include "vk/vk_context.h"
 #include "vktg/scene.h"
 
 namespace vktg::cli {

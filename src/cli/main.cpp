@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "cli/commands.h"
-#include "host/interrupt.h"
-#include "host/vk_check.h"
-#include "host/vk_context.h"
+#include "render/interrupt.h"
+#include "vk/vk_check.h"
+#include "vk/vk_context.h"
 #include "vktg/error.h"
 
 namespace {

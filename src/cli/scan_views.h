@@ -1,11 +1,11 @@
-// What the commands that take --scan share: a scan file's views as render views, and the image of
-// a scan from the render that held all of them.
+// What the commands that take --scan share: the option and the scan it names (the views and the
+// image of a scan: render/scan_views.h).
 #pragma once
 #include <optional>
 #include <vector>
 
 #include "cli/args.h"
-#include "host/renderer.h"
+#include "render/scan_views.h"
 #include "scene/scan.h"
 
 namespace vktg::cli {
@@ -15,14 +15,5 @@ OptionSpec scanOption(const char* what);
 
 // The scan named by --scan, if any (its file joins `inputs`, which outputs must not overwrite).
 std::optional<Scan> scanOf(const ParsedArgs& args, const Scene& scene, std::vector<std::filesystem::path>& inputs);
-
-// The render views of a scan: each view's camera and lights, and its own random numbers (the same
-// derived seed whichever command renders it, so a view's image is the one-view render's).
-std::vector<RenderView> scanViews(const Scan& scan, const Scene& scene);
-
-// A scan's image from the render of its views: at a point sensor (one pixel per view) the grid,
-// view j * columns + i at pixel (i, j); behind a pinhole the views' images one below the other, as
-// the render stacks them.
-ImageSet scanImage(ImageSet stacked, const Scan& scan, CameraType camera);
 
 }  // namespace vktg::cli

@@ -13,6 +13,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "plan/terms.h"
 #include "scene/scene_values.h"
 #include "scene/scan.h"
 #include "scene/scene_view.h"
@@ -547,8 +548,8 @@ class ExperimentParser {
     b.interior = b.edge = b.pathLength = false;
     for (size_t i = 0; i < value.json().size(); ++i) {
       const JsonValue element = value.element(i);
-      const std::string term = element.oneOf({"interior", "edge", "pathlength"});
-      bool& on = term == "interior" ? b.interior : term == "edge" ? b.edge : b.pathLength;
+      const std::string term = element.oneOf({termName(Term::Interior), termName(Term::Edge), termName(Term::PathLength)});
+      bool& on = term == termName(Term::Interior) ? b.interior : term == termName(Term::Edge) ? b.edge : b.pathLength;
       if (on) element.fail("term " + inQuotes(term) + " listed twice");
       on = true;
     }

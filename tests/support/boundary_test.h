@@ -11,7 +11,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "host/gradient.h"
+#include "grad/gradient.h"
 #include "support/chi2.h"
 #include "support/render_test.h"
 #include "support/test_scenes.h"

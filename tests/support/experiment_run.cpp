@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "host/optimize.h"
+#include "optimize/optimize.h"
 #include "opt/run_directory.h"
 #include "support/gpu_context.h"
 

@@ -10,7 +10,7 @@
 #pragma once
 #include <functional>
 
-#include "host/vk_context.h"
+#include "vk/vk_context.h"
 
 namespace vktg::test {
 VulkanContext& testContext();

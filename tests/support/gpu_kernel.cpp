@@ -2,8 +2,8 @@
 #include <optional>
 #include <stdexcept>
 
-#include "host/frame_uniforms.h"
-#include "host/pass_pipelines.h"
+#include "render/frame_uniforms.h"
+#include "render/pass_pipelines.h"
 #include "support/gpu_context.h"
 #include "support/gpu_test.h"
 

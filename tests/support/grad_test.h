@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "host/gradient.h"
+#include "grad/gradient.h"
 #include "support/render_test.h"
 #include "vktg/gate.h"
 #include "vktg/scene.h"

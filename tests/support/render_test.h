@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "host/renderer.h"
+#include "render/renderer.h"
 #include "vktg/scene.h"
 
 namespace vktg::test {
