@@ -479,7 +479,10 @@ Evaluation Optimization::evaluate() {
         m.say("term pilot: " + formatSeconds(pilotSeconds));
       }
     }
+    const double scaleBefore = m.adjoint.scale;
     g = lossGradient(renderer, scene, views, m.gradient, m.adjoint, chain ? &*chain : nullptr);
+    out.adjointScale = m.adjoint.scale;
+    m.adjoint.scale = scaleBefore;
   }
   // The images of this θ: with a chain, from the render's samples and every interior pass's,
   // and the loss read from them.
@@ -566,6 +569,7 @@ void Optimization::step(const Evaluation& evaluation) {
     m.say(line);
   }
   m.optimizer->step(m.theta, d);
+  if (!e.budget.finiteDifferences) m.adjoint.scale = evaluation.adjointScale;
   m.iteration = i + 1;
   std::string stop;
   if (e.stop.lossBelow && loss < *e.stop.lossBelow) stop = "the loss fell below stop.loss_below";

@@ -49,6 +49,9 @@ struct Evaluation {
   std::vector<ImageSet> images;        // per target: the image the loss was read from
   LossGradient gradient;               // d loss / d θ of the image loss, with its plan and statistics
   double seconds = 0;                  // wall time, the term pilot's excluded (it runs once)
+  // The gradient accumulators' scale after this gradient (it adapts to the gradient's size): the
+  // run takes it on in step, so that evaluating twice at one iteration gives the same bits.
+  double adjointScale = 0;
 };
 
 // An optimisation run, a step at a time: open a new run directory or resume one, evaluate the loss
