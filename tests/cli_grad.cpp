@@ -50,6 +50,16 @@ TEST(CliGrad, SplitTermsWithNpyWritesEachTermsArray) {
   EXPECT_FALSE(fs::exists(dir / "g.pathlength.npy")) << "a gaussian gate has no jumps";
 }
 
+// Without a scene file, the built-in default scene and its parameters (scenes/cornell_box.json's).
+TEST(CliGrad, DifferentiatesTheDefaultScene) {
+  TempDir dir;
+  CliResult r = runVktg({"grad", "--param", "short_box_x,left_albedo", "--resolution", "4x4", "--spp", "2", "--npy",
+                         "--quiet", "--out", (dir / "d.exr").string()},
+                        {.cwd = dir.path()});
+  ASSERT_TRUE(r.exited && r.exitCode == 0) << r.describe();
+  EXPECT_EQ(fs::file_size(dir / "d.npy"), 128u + 16u * 4u * 2u);  // 4 x 4, two parameters, one box-gate layer
+}
+
 TEST(CliGrad, ExplainSaysWhyThereIsNoEdgePass) {
   TempDir dir;
   CliResult r = runVktg({"grad", kOccluderScene, "--param", "floor_albedo", "--resolution", "4x4", "--spp", "2",

@@ -125,6 +125,16 @@ void expectSameScene(const Scene& a, const Scene& b) {
     for (size_t k = 0; k < sa.positions.size(); ++k) EXPECT_LT(glm::distance(sa.positions[k], sb.positions[k]), 1e-5f);
   }
   EXPECT_EQ(a.pointLights.size(), b.pointLights.size());
+  ASSERT_EQ(a.parameters.size(), b.parameters.size());
+  for (size_t i = 0; i < a.parameters.size(); ++i) {
+    const Parameter &pa = a.parameters[i], &pb = b.parameters[i];
+    SCOPED_TRACE(pa.name);
+    EXPECT_EQ(pa.name, pb.name);
+    EXPECT_EQ(pa.kind, pb.kind);
+    EXPECT_EQ(pa.target, pb.target);
+    EXPECT_EQ(pa.axis, pb.axis);
+    EXPECT_LT(glm::distance(pa.center, pb.center), 1e-5f);
+  }
   EXPECT_EQ(a.camera.type, b.camera.type);
   EXPECT_EQ(a.camera.position, b.camera.position);
   EXPECT_EQ(a.camera.lookAt, b.camera.lookAt);

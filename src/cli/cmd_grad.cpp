@@ -56,12 +56,13 @@ const CommandSpec& gradSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "grad";
-    s.usage = "grad SCENE --param NAME[,NAME...] [options]";
+    s.usage = "grad [SCENE] --param NAME[,NAME...] [options]";
     s.description =
         "Derivatives of the time-gated image with respect to scene parameters (forward mode through the\n"
         "wavefront passes). Writes one EXR layer per parameter (per bin for a transient stack) and a PNG\n"
         "per layer in a diverging colormap (red positive, blue negative, the scale printed).\n"
-        "Terms (THEORY.md section 3), each its own pass: interior, edge (visibility boundary: moving\n"
+        "SCENE omitted: the built-in default scene (its parameters: short_box_x, tall_box_spin, light_emission,\n"
+        "left_albedo). Terms (docs/theory.md section 3), each its own pass: interior, edge (visibility boundary: moving\n"
         "silhouettes and shadows; boundary segments from the camera and from the first hit) and\n"
         "path-length boundary (the gate's jumps). --explain says which run and why.";
     s.options = derivativeOptions();
@@ -85,7 +86,7 @@ const CommandSpec& fdSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "fd";
-    s.usage = "fd SCENE --param NAME --eps E [options]";
+    s.usage = "fd [SCENE] --param NAME --eps E [options]";
     s.description =
         "Central finite difference (I(θ+E) - I(θ-E)) / 2E of the render, both sides with the same random\n"
         "numbers: the reference `vktg grad` is validated against.";
@@ -104,7 +105,7 @@ int runGrad(const std::vector<std::string>& argv) {
     return 0;
   }
   bool quiet = args.has("--quiet");
-  Scene scene = loadSceneWithOverrides(args, false);
+  Scene scene = loadSceneWithOverrides(args, true);
   std::vector<std::string> names = selectParameters(scene, args.get("--param").value_or(""));
   GradientOptions gradient;
   if (auto terms = args.get("--terms")) {
@@ -130,7 +131,7 @@ int runGrad(const std::vector<std::string>& argv) {
   applyEstimatorOptions(args, options);
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "grad");
-  std::vector<std::filesystem::path> inputs = {args.positionals[0]};
+  std::vector<std::filesystem::path> inputs(args.positionals.begin(), args.positionals.end());
   const std::optional<Scan> scan = scanOf(args, scene, inputs);
   checkOutputPath(exr, inputs);
   for (const char* term : {".interior.exr", ".edge.exr", ".pathlength.exr", ".npy", ".interior.npy", ".edge.npy",
@@ -173,7 +174,7 @@ int runFd(const std::vector<std::string>& argv) {
     return 0;
   }
   bool quiet = args.has("--quiet");
-  Scene scene = loadSceneWithOverrides(args, false);
+  Scene scene = loadSceneWithOverrides(args, true);
   auto param = args.get("--param");
   if (!param) throw UsageError("--param NAME is required");
   auto eps = args.number("--eps");
@@ -182,7 +183,7 @@ int runFd(const std::vector<std::string>& argv) {
   applyEstimatorOptions(args, options);
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "fd");
-  std::vector<std::filesystem::path> inputs = {args.positionals[0]};
+  std::vector<std::filesystem::path> inputs(args.positionals.begin(), args.positionals.end());
   const std::optional<Scan> scan = scanOf(args, scene, inputs);
   checkOutputPath(exr, inputs);
   auto context = makeContext(args);

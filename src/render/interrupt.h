@@ -7,16 +7,7 @@
 
 namespace vktg {
 
-// Thrown by throwIfInterrupted; the command line exits with 128 + the signal number.
-class Interrupted : public Error {
- public:
-  explicit Interrupted(int signal);
-  int signal() const { return m_signal; }
-
- private:
-  int m_signal;
-};
-
+// throwIfInterrupted throws vktg::Interrupted (vktg/error.h).
 // Routes SIGINT and SIGTERM to the flag (idempotent). A second signal while the first is pending
 // takes the default action (the process ends), so a stuck run can still be stopped.
 void installInterruptHandlers();

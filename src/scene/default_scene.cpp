@@ -61,6 +61,15 @@ Scene defaultScene() {
   scene.gate.b = 6.5;
 
   scene.render.spp = 64;
+
+  // Parameters to differentiate by (the same as scenes/cornell_box.json's): the short box along x,
+  // the tall box turning about its vertical axis, the light's emission, the left wall's albedo.
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const glm::vec3& p : scene.shapes.back().positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  scene.parameters = {{"short_box_x", ParameterKind::Translate, "short_box", {1, 0, 0}, {}, {}},
+                      {"tall_box_spin", ParameterKind::Rotate, "tall_box", {0, 1, 0}, 0.5f * (lo + hi), {}},
+                      {"light_emission", ParameterKind::Emission, "light", {}, {}, {}},
+                      {"left_albedo", ParameterKind::Albedo, "left", {}, {}, {}}};
   return scene;
 }
 
