@@ -43,10 +43,12 @@ class Context:
 
     @property
     def device_name(self) -> str:
+        """The device's name, as `vktg info` lists it."""
         return self._native.device_name
 
     @property
     def cpu_device(self) -> bool:
+        """Whether the device is a CPU (lavapipe)."""
         return self._native.cpu_device
 
     @property
@@ -76,18 +78,22 @@ class Gate:
 
     @staticmethod
     def gaussian(mu: float, sigma: float) -> "Gate":
+        """W(L) a gaussian of mean ``mu`` and deviation ``sigma`` (metres)."""
         return Gate(f"gaussian:{mu!r},{sigma!r}")
 
     @staticmethod
     def box(start: float, end: float) -> "Gate":
+        """W(L) = 1 for start <= L <= end."""
         return Gate(f"box:{start!r},{end!r}")
 
     @staticmethod
     def truncated_gaussian(mu: float, sigma: float, start: float, end: float) -> "Gate":
+        """A gaussian cut to [start, end]."""
         return Gate(f"tgauss:{mu!r},{sigma!r},{start!r},{end!r}")
 
     @staticmethod
     def steady() -> "Gate":
+        """Every path length: the steady-state image."""
         return Gate("steady")
 
     @staticmethod
@@ -127,10 +133,12 @@ class Scene:
         return Scene()
 
     def copy(self) -> "Scene":
+        """An independent copy, with the same values."""
         return Scene(_native=self._native.copy())
 
     @property
     def parameters(self) -> list[str]:
+        """The names of the scene's parameters, in the file's order."""
         return self._native.parameter_names()
 
     def select(self, pattern: str) -> list[str]:
@@ -144,9 +152,11 @@ class Scene:
         self._native.set_value(name, _finite(value, name))
 
     def values(self, names: Sequence[str]) -> np.ndarray:
+        """The values of ``names``, as float64."""
         return np.array(self._native.values(list(names)), dtype=np.float64)
 
     def set_values(self, names: Sequence[str], values) -> None:
+        """Sets each of ``names`` to its value (each finite)."""
         names = list(names)
         theta = np.asarray(values, dtype=np.float64).reshape(-1)
         if theta.shape[0] != len(names):
@@ -155,14 +165,17 @@ class Scene:
 
     @property
     def width(self) -> int:
+        """The image's width in pixels (the camera's)."""
         return self._native.width
 
     @property
     def height(self) -> int:
+        """The image's height in pixels."""
         return self._native.height
 
     @property
     def gate(self) -> str:
+        """The scene's own gate, described."""
         return self._native.gate
 
     def __repr__(self) -> str:
