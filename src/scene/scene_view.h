@@ -21,6 +21,10 @@ struct SceneView {
   std::optional<glm::vec3> up;        // perspective only (unit length once parsed)
   std::optional<glm::vec3> normal;    // point sensor only (unit length once parsed)
   std::vector<std::pair<uint32_t, glm::vec3>> lightPositions;  // Scene::pointLights index -> position
+  // Optical path outside the scene, in metres, added to every path of this view before the gate
+  // sees it: the legs from a capture device to the relay wall and back, when a capture's times
+  // count them (docs/scene-format.md, "NLOS captures"). 0 for a camera or sensor in the scene.
+  float pathOffset = 0.0f;
 };
 
 // {"position", "look_at", "up", "normal", "lights": {"NAME": [x, y, z]}}, the fields that fit the
