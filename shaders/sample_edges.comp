@@ -302,7 +302,7 @@ float cameraSide(SurfacePoint xa, vec3 w, uint sampleIndex, out uint pixel, out 
     if (!traceClosest(position, bs.wo, frame.sceneInfo.x, kInfinity, hit)) return 0.0;
     SurfacePoint next = surfacePoint(floatBitsToUint(hit.tuvTriangle.w), hit.tuvTriangle.yz);
     addLength(len, comp, distance(position, next.position) * medium);
-    if (len > frame.gateSupport.y) return 0.0;  // the path is already past the gate
+    if (len > gateSupportNumbers().y) return 0.0;  // the path is already past the gate
     toward = -bs.wo;
     position = next.position;
     normal = next.normal;

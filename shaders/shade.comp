@@ -129,7 +129,7 @@ void shadeHit() {
   tape[tapeIndex(0u, path)].adjoint.z = uintBitsToFloat(depth);
 #endif
   // Nothing can reach the gate any more: every extension only makes the path longer.
-  if (len > frame.gateSupport.y) {
+  if (len > gateSupportNumbers().y) {
     atomicAdd(counters[kCounterEndedByGate], 1u);
     return;
   }
@@ -167,7 +167,7 @@ void shadeHit() {
 
   // Russian roulette only once the path has reached the gate's support: before that the path
   // has contributed nothing yet, and its length (not a bounce count) already bounds it.
-  if (depth >= frame.pathInfo.x && len >= frame.gateSupport.x) {
+  if (depth >= frame.pathInfo.x && len >= gateSupportNumbers().x) {
     Rng rr = rngForBounce(viewPixel(pixel), sampleIndex, depth, kRngSlotLight, viewSeed());
     float survive = clamp(throughput, 0.05, 0.95);
     if (rngNext4(rr).w >= survive) {

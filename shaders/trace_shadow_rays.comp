@@ -197,9 +197,9 @@ void traceConnections() {
   uint mask = rayQueues[3u * batch + path];
   rayQueues[3u * batch + path] = 0u;
   atomicAdd(counters[kCounterShadowRays], uint(bitCount(mask)));
-#ifdef VKTG_ADJOINT
-  setViewOfPath(paths[path]);  // the adjoint reads the camera and the lights as the path's view has them
-#endif
+  // The gate meets a connection's length as the path's view counts it (its path offset); the adjoint
+  // also reads the camera and the lights as that view has them.
+  setViewOfPath(paths[path]);
   // In slot order: the path's accumulator sees its contributions in the same order on every run.
   // A CPU device masks lanes rather than branching, so a loop over all slots would run a
   // connection's code, traversals included, for every empty slot: it visits the filled ones only.

@@ -67,12 +67,13 @@ Scene pinholeScene() {
 }
 
 // Three views of `scene`: moved cameras (point sensors: the scan point and the laser with it),
-// each with its own seed.
+// each with its own seed, two counting optical path outside the scene (a capture's device legs).
 std::vector<RenderView> threeViews(const Scene& scene) {
   std::vector<RenderView> views;
   const glm::vec3 moves[] = {{0, 0, 0}, {0.3f, 0.05f, -0.2f}, {-0.25f, -0.1f, 0.3f}};
+  const float offsets[] = {0.0f, 0.25f, 0.1f};
   for (uint32_t v = 0; v < 3; ++v) {
-    RenderView view{scene.camera, 101 + 7 * v, {}};
+    RenderView view{scene.camera, 101 + 7 * v, {}, offsets[v]};
     view.camera.position += moves[v];
     if (scene.camera.type == CameraType::PointSensor) view.lightPositions = {{0u, view.camera.position}};
     else view.lightPositions = {{0u, scene.pointLights[0].position - moves[v]}};
@@ -86,6 +87,7 @@ RenderSetup setupOf(const Scene& scene, const RenderView& view) {
   RenderSetup setup = RenderSetup::of(scene);
   setup.camera = view.camera;
   setup.settings.seed = view.seed;
+  setup.pathOffset = view.pathOffset;
   return setup;
 }
 
@@ -121,6 +123,45 @@ TEST(RenderViews, PinholesRenderAsAlone) {
   RenderOptions options;
   options.nee = NeeMode::Mis;  // camera rays, emitter hits, both connection kinds
   expectViewsRenderAsAlone(pinholeScene(), options);
+}
+
+// A view's path offset is the gate moved back by it: the same bits as the scene with that gate
+// (numbers chosen so that both ways of writing the gate give the same floats).
+void expectPathOffsetIsTheGateMovedBack(const Scene& scene, float offset, const RenderOptions& options) {
+  Renderer& renderer = test::testRenderer();
+  DeviceScene deviceScene(renderer.context(), scene);
+  RenderSetup offsetSetup = RenderSetup::of(scene), movedSetup = RenderSetup::of(scene);
+  offsetSetup.pathOffset = offset;
+  movedSetup.gate = scene.gate.shifted(-double(offset));
+  const RenderResult withOffset = renderer.render(deviceScene, offsetSetup, options);
+  const RenderResult moved = renderer.render(deviceScene, movedSetup, options);
+  const RenderResult plain = renderer.render(deviceScene, RenderSetup::of(scene), options);
+  ASSERT_EQ(withOffset.mean.layers.size(), moved.mean.layers.size());
+  for (size_t l = 0; l < moved.mean.layers.size(); ++l)
+    EXPECT_EQ(withOffset.mean.layers[l].pixels, moved.mean.layers[l].pixels) << "layer " << l;
+  double changed = 0;
+  for (size_t l = 0; l < plain.mean.layers.size(); ++l)
+    for (size_t i = 0; i < plain.mean.layers[l].pixels.size(); ++i)
+      changed += std::abs(withOffset.mean.layers[l].pixels[i] - plain.mean.layers[l].pixels[i]);
+  EXPECT_GT(changed, 0.0);  // the offset moved light across the gate: equal images would prove nothing
+}
+
+TEST(RenderViews, PathOffsetIsTheGateMovedBackAtAPointSensor) {
+  Scene scene = scanScene();
+  scene.gate = parseGateSpec("bins:1.5,0.125,8");
+  for (NeeMode nee : {NeeMode::Standard, NeeMode::Ellipsoidal}) {
+    RenderOptions options;
+    options.nee = nee;
+    expectPathOffsetIsTheGateMovedBack(scene, 0.25f, options);
+  }
+}
+
+TEST(RenderViews, PathOffsetIsTheGateMovedBackBehindAPinhole) {
+  Scene scene = pinholeScene();
+  scene.gate = parseGateSpec("box:4.25,5.5");
+  RenderOptions options;
+  options.nee = NeeMode::Mis;
+  expectPathOffsetIsTheGateMovedBack(scene, 0.5f, options);
 }
 
 // A loss gradient over three views, each with its own adjoint image: one render per term for all of

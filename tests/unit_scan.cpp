@@ -52,6 +52,9 @@ TEST(Scan, OnePointPerAxisNeedsNoStepAndAListIsOneRow) {
   EXPECT_EQ(list.rows, 1u);
   ASSERT_EQ(list.views[1].lightPositions.size(), 1u);
   EXPECT_EQ(list.views[1].lightPositions[0].first, 1u);
+  EXPECT_EQ(list.views[0].pathOffset, 0.0f);
+  const Scan legs = parseScanJson(R"({"version": 1, "views": [{"position": [0, 1, 0], "path_offset": 2.5}]})", "s.json", scene);
+  EXPECT_EQ(legs.views[0].pathOffset, 2.5f);
 }
 
 TEST(Scan, BadFilesNameTheFieldAndTheProblem) {
@@ -84,6 +87,8 @@ TEST(Scan, BadFilesNameTheFieldAndTheProblem) {
        {"grid.lights[0]", "unknown point light \"lamp\""}},
       {"normal behind a pinhole", R"({"version": 1, "grid": {)" + grid + R"(, "normal": [0, -1, 0]}})", &pinhole,
        {"grid.normal", "perspective"}},
+      {"negative path offset", R"({"version": 1, "views": [{"path_offset": -1}]})", &sensor,
+       {"views[0].path_offset", "[0, 1e6] m"}},
       {"look_at at a sensor", R"({"version": 1, "views": [{"look_at": [0, 0, 0]}]})", &sensor,
        {"views[0].look_at", "point sensor"}},
       {"overflowing grid", R"({"version": 1, "grid": {"corner": [3e38, 1, 0], "across": [3e38, 0, 0], "resolution": [2, 1]}})",

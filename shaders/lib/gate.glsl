@@ -1,30 +1,41 @@
 // Time gates W(L) (THEORY.md §1) and gate sampling for ellipsoidal connections. The gate type is
-// a specialisation constant; its numbers come from frame.gate / frame.gateSupport.
+// a specialisation constant; its numbers come from frame.gate / gateSupportNumbers().
 // Must match src/scene/gate.cpp (Gate::weight), which tests use as the reference.
 #ifndef VKTG_GATE_GLSL
 #define VKTG_GATE_GLSL
 #include "lib/specialization.glsl"
+#include "lib/view.glsl"
 
 const float kGaussianCutoff = 6.5;
+
+// The gate as the current view's paths meet it. A view may count optical path outside the scene
+// (viewPathOffset: a capture device's legs to and from the relay wall); W applied to L plus that
+// offset is W with every location (centre, ends, bin start, support) moved back by it, so the
+// shaders compare the scene's own path lengths with these numbers. Widths and the normaliser stay.
+vec4 gateNumbers() {
+  float o = viewPathOffset();
+  return frame.gate - (kSpecGateTypeValue == kGateBins ? vec4(o, 0.0, 0.0, 0.0) : vec4(o, 0.0, o, o));
+}
+vec4 gateSupportNumbers() { return frame.gateSupport - vec4(vec3(viewPathOffset()), 0.0); }
 const float kSqrtTwoPi = 2.50662827463100050242;
 
 // W_k(L) for layer k (k = 0 unless the gate is a stack of bins).
 float gateWeight(float len, uint layer) {
   if (kSpecGateTypeValue == kGateSteady) return 1.0;
   if (kSpecGateTypeValue == kGateGaussian) {
-    float d = len - frame.gate.x;
-    if (abs(d) > kGaussianCutoff * frame.gate.y) return 0.0;
-    float z = d / frame.gate.y;
-    return exp(-0.5 * z * z) * frame.gateSupport.w;
+    float d = len - gateNumbers().x;
+    if (abs(d) > kGaussianCutoff * gateNumbers().y) return 0.0;
+    float z = d / gateNumbers().y;
+    return exp(-0.5 * z * z) * gateSupportNumbers().w;
   }
-  if (kSpecGateTypeValue == kGateBox) return (len >= frame.gate.z && len <= frame.gate.w) ? 1.0 : 0.0;
+  if (kSpecGateTypeValue == kGateBox) return (len >= gateNumbers().z && len <= gateNumbers().w) ? 1.0 : 0.0;
   if (kSpecGateTypeValue == kGateTruncatedGaussian) {
-    if (len < frame.gate.z || len > frame.gate.w) return 0.0;
-    float z = (len - frame.gate.x) / frame.gate.y;
+    if (len < gateNumbers().z || len > gateNumbers().w) return 0.0;
+    float z = (len - gateNumbers().x) / gateNumbers().y;
     return exp(-0.5 * z * z);
   }
-  float lo = frame.gate.x + frame.gate.y * float(layer);
-  return (len >= lo && len < lo + frame.gate.y) ? 1.0 : 0.0;
+  float lo = gateNumbers().x + gateNumbers().y * float(layer);
+  return (len >= lo && len < lo + gateNumbers().y) ? 1.0 : 0.0;
 }
 
 // The layers whose weight can be non-zero at L: [first, first + count).
@@ -32,7 +43,7 @@ void gateLayers(float len, out uint first, out uint count) {
   first = 0u;
   count = 1u;
   if (kSpecGateTypeValue != kGateBins) return;
-  float k = floor((len - frame.gate.x) / frame.gate.y);
+  float k = floor((len - gateNumbers().x) / gateNumbers().y);
   if (k < 0.0 || k >= float(frame.gateInfo.y)) { count = 0u; return; }
   first = uint(k);
 }
@@ -42,9 +53,9 @@ void gateLayers(float len, out uint first, out uint count) {
 // connections of their own. A connection of a length the gate does not reach adds nothing to the
 // image or to any derivative, and is not traced.
 bool gateReaches(float len) {
-  if (kSpecGateTypeValue == kGateGaussian) return !(abs(len - frame.gate.x) > kGaussianCutoff * frame.gate.y);
+  if (kSpecGateTypeValue == kGateGaussian) return !(abs(len - gateNumbers().x) > kGaussianCutoff * gateNumbers().y);
   if (kSpecGateTypeValue == kGateBox || kSpecGateTypeValue == kGateTruncatedGaussian)
-    return !(len < frame.gate.z || len > frame.gate.w);
+    return !(len < gateNumbers().z || len > gateNumbers().w);
   uint first, count;  // steady: its one layer; bins: the bin L falls in
   gateLayers(len, first, count);
   return count > 0u;
@@ -58,11 +69,11 @@ float gateSampleLength(vec2 u, out float s) {
   if (kSpecGateTypeValue == kGateGaussian) {
     // Box–Muller; 1 - u.x is in (0, 1], so the log is finite.
     float radius = sqrt(-2.0 * log(1.0 - u.x));
-    s = frame.gate.x + frame.gate.y * radius * cos(6.28318530717958647692 * u.y);
-    float z = (s - frame.gate.x) / frame.gate.y;
-    return frame.gate.y * kSqrtTwoPi * exp(0.5 * z * z);
+    s = gateNumbers().x + gateNumbers().y * radius * cos(6.28318530717958647692 * u.y);
+    float z = (s - gateNumbers().x) / gateNumbers().y;
+    return gateNumbers().y * kSqrtTwoPi * exp(0.5 * z * z);
   }
-  float lo = frame.gateSupport.x, hi = frame.gateSupport.z;
+  float lo = gateSupportNumbers().x, hi = gateSupportNumbers().z;
   s = mix(lo, hi, u.x);
   return hi - lo;
 }
@@ -76,8 +87,8 @@ uint gateJumpCount() {
 }
 
 float gateJumpLocation(uint j) {
-  if (kSpecGateTypeValue == kGateBins) return frame.gate.x + frame.gate.y * float(j);
-  return j == 0u ? frame.gate.z : frame.gate.w;
+  if (kSpecGateTypeValue == kGateBins) return gateNumbers().x + gateNumbers().y * float(j);
+  return j == 0u ? gateNumbers().z : gateNumbers().w;
 }
 
 // ΔW_k(s_j) = W_k(s_j+) - W_k(s_j-) for layer k.
@@ -85,7 +96,7 @@ float gateJumpSize(uint j, uint layer) {
   if (kSpecGateTypeValue == kGateBins) return layer == j ? 1.0 : (layer + 1u == j ? -1.0 : 0.0);
   float w = 1.0;
   if (kSpecGateTypeValue == kGateTruncatedGaussian) {
-    float z = (gateJumpLocation(j) - frame.gate.x) / frame.gate.y;
+    float z = (gateJumpLocation(j) - gateNumbers().x) / gateNumbers().y;
     w = exp(-0.5 * z * z);
   }
   return j == 0u ? w : -w;
@@ -95,7 +106,7 @@ float gateJumpSize(uint j, uint layer) {
 uint gateFirstJumpAbove(float len) {
   uint count = gateJumpCount();
   if (kSpecGateTypeValue == kGateBins) {
-    float k = floor((len - frame.gate.x) / frame.gate.y) + 1.0;
+    float k = floor((len - gateNumbers().x) / gateNumbers().y) + 1.0;
     return uint(clamp(k, 0.0, float(count)));
   }
   uint j = 0u;
@@ -124,10 +135,10 @@ uint gateBoundaryJumps(float reach, float uJump, out uint first, out float weigh
 // The density gateSampleLength draws s from (for MIS weights of other strategies' paths).
 float gateSamplePdf(float s) {
   if (kSpecGateTypeValue == kGateGaussian) {
-    float z = (s - frame.gate.x) / frame.gate.y;
-    return exp(-0.5 * z * z) / (frame.gate.y * kSqrtTwoPi);
+    float z = (s - gateNumbers().x) / gateNumbers().y;
+    return exp(-0.5 * z * z) / (gateNumbers().y * kSqrtTwoPi);
   }
-  float lo = frame.gateSupport.x, hi = frame.gateSupport.z;
+  float lo = gateSupportNumbers().x, hi = gateSupportNumbers().z;
   return (s >= lo && s <= hi) ? 1.0 / (hi - lo) : 0.0;
 }
 #endif

@@ -101,15 +101,15 @@ Dual dAbsCos(Dual3 n, Dual3 w) { return dAbs(dDot(n, w)); }
 
 float gateWeightSlope(float len, uint layer) {
   if (kSpecGateTypeValue == kGateGaussian) {
-    float d = len - frame.gate.x;
-    if (abs(d) > kGaussianCutoff * frame.gate.y) return 0.0;
-    float z = d / frame.gate.y;
-    return -z / frame.gate.y * exp(-0.5 * z * z) * frame.gateSupport.w;
+    float d = len - gateNumbers().x;
+    if (abs(d) > kGaussianCutoff * gateNumbers().y) return 0.0;
+    float z = d / gateNumbers().y;
+    return -z / gateNumbers().y * exp(-0.5 * z * z) * gateSupportNumbers().w;
   }
   if (kSpecGateTypeValue == kGateTruncatedGaussian) {
-    if (len < frame.gate.z || len > frame.gate.w) return 0.0;
-    float z = (len - frame.gate.x) / frame.gate.y;
-    return -z / frame.gate.y * exp(-0.5 * z * z);
+    if (len < gateNumbers().z || len > gateNumbers().w) return 0.0;
+    float z = (len - gateNumbers().x) / gateNumbers().y;
+    return -z / gateNumbers().y * exp(-0.5 * z * z);
   }
   return 0.0;
 }

@@ -192,7 +192,7 @@ void ellipsoidalNee(uint path, NeeVertex v, vec2 uGate, vec3 uLight, vec4 uEllip
     // Antithetic pair (THEORY.md §5): s and its mirror 2 mu - s share every other random number;
     // the symmetric gate gives both the same density, and W'(s) + W'(2 mu - s) = 0 cancels the
     // large derivative terms of a near-delta gate between the pair.
-    float mirror = 2.0 * frame.gate.x - s;
+    float mirror = 2.0 * gateNumbers().x - s;
     if (invPdfS > 0.0) ellipsoidalConnection(path, v, s, invPdfS, 0.5, ls, uEllipsoid, kNoJump, kConnectionEllipsoidal);
     if (invPdfS > 0.0)
       ellipsoidalConnection(path, v, mirror, invPdfS, 0.5, ls, uEllipsoid, kNoJump, kConnectionEllipsoidal + 1u);

@@ -2,13 +2,13 @@
 // of a confocal capture, the targets of an optimisation): one gate, sample count and image size,
 // each with its own camera pose, point-light positions and seed. Their images are stacked as rows
 // of one tall image, view v owning pixels [v P, (v + 1) P), so films, adjoint images and the
-// accumulation passes see a single image; only what reads a camera or point-light position or
-// keys a random number asks this file. Random numbers are keyed by the view's own pixel, sample
+// accumulation passes see a single image; only what reads a camera or point-light position,
+// meets the gate (a view's path offset) or keys a random number asks this file. Random numbers are keyed by the view's own pixel, sample
 // and seed, so a view renders exactly as it would alone. With kSpecMultiView off (one view) all of
 // it comes from the frame block and compiles to what it was before views existed.
 //
-// A view record in frameViews (frame.viewInfo.z vec4s): position (w: seed bits), forward, right,
-// up as in FrameUniforms, then one position per point light.
+// A view record in frameViews (frame.viewInfo.z vec4s): position (w: seed bits), forward (w: path
+// offset), right, up as in FrameUniforms, then one position per point light.
 #ifndef VKTG_VIEW_GLSL
 #define VKTG_VIEW_GLSL
 
@@ -31,6 +31,8 @@ vec3 cameraPosition() { return multiView() ? frameViews[viewRecord()].xyz : fram
 vec3 cameraForward() { return multiView() ? frameViews[viewRecord() + 1u].xyz : frame.cameraForward.xyz; }
 vec3 cameraRight() { return multiView() ? frameViews[viewRecord() + 2u].xyz : frame.cameraRight.xyz; }
 vec3 cameraUp() { return multiView() ? frameViews[viewRecord() + 3u].xyz : frame.cameraUp.xyz; }
+// Optical path outside the scene that this view's paths count (lib/gate.glsl); forward's w.
+float viewPathOffset() { return multiView() ? frameViews[viewRecord() + 1u].w : frame.cameraForward.w; }
 uint viewSeed() { return multiView() ? floatBitsToUint(frameViews[viewRecord()].w) : frame.image.w; }
 
 // Random-number keys: the pixel within its view (kNoPixel stays), and a splatted sample's index

@@ -58,7 +58,7 @@ std::vector<RenderView> renderViews(const Scene& scene, const std::vector<View>&
       if (!std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z))
         fail("", "views[" + std::to_string(k) + "].lights", "a position is not finite");
     }
-    out.push_back({v.camera, v.seed, v.lightPositions});
+    out.push_back({v.camera, v.seed, v.lightPositions, v.pathOffset});
   }
   return out;
 }

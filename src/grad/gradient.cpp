@@ -323,7 +323,8 @@ RenderResult renderGroup(Renderer& renderer, DeviceScene& scene, const std::vect
     return renderer.render(scene, setup, options);
   }
   std::vector<RenderView> together;
-  for (size_t v : group) together.push_back({views[v].setup.camera, views[v].setup.settings.seed, views[v].lightPositions});
+  for (size_t v : group)
+    together.push_back({views[v].setup.camera, views[v].setup.settings.seed, views[v].lightPositions, views[v].setup.pathOffset});
   return renderer.render(scene, setup, together, options);
 }
 

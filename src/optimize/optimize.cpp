@@ -66,6 +66,7 @@ TargetSetup targetSetup(const Experiment& e, size_t t) {
   Scene seen = sceneForTarget(e.scene, target);
   s.setup = RenderSetup::of(seen);
   s.setup.gate = target.gate;
+  s.setup.pathOffset = target.view.pathOffset;
   s.lights = target.view.lightPositions;
   return s;
 }

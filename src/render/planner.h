@@ -16,8 +16,9 @@ struct RenderSetup {
   Gate gate;
   RenderSettings settings;
   std::string source;
+  float pathOffset = 0.0f;  // optical path outside the scene, in metres, added before the gate (SceneView)
 
-  static RenderSetup of(const Scene& scene) { return {scene.camera, scene.gate, scene.render, scene.source.string()}; }
+  static RenderSetup of(const Scene& scene) { return {scene.camera, scene.gate, scene.render, scene.source.string(), 0.0f}; }
 };
 
 // How an ellipsoidal connection chooses the triangle it lands on (shaders/lib/ellipsoid.glsl).

@@ -177,7 +177,7 @@ std::vector<glm::vec4> viewRecords(const std::vector<RenderView>& views, const R
       throw Error("internal: the views of one render share the camera type and image size");
     const gpu::FrameUniforms f = sceneFrameUniforms(view.camera, setup.settings, scene.prepared(), gpuScene);
     records.push_back(glm::vec4(glm::vec3(f.cameraPosition), std::bit_cast<float>(view.seed)));
-    records.insert(records.end(), {f.cameraForward, f.cameraRight, f.cameraUp});
+    records.insert(records.end(), {glm::vec4(glm::vec3(f.cameraForward), view.pathOffset), f.cameraRight, f.cameraUp});
     for (const glm::vec3& light : scene.pointLightsFor(view.lightPositions)) records.push_back(glm::vec4(light, 0.0f));
   }
   return records;
@@ -315,6 +315,7 @@ RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& 
 
   gpu::FrameUniforms frame = sceneFrameUniforms(setup.camera, settings, prepared, gpuScene);
   setGateUniforms(frame, setup.gate, options.gateCutoff);
+  frame.cameraForward.w = setup.pathOffset;
   frame.gateInfo.z = plan.nee == NeeMode::Ellipsoidal ? gpu::kNeeEllipsoidal
                      : plan.nee == NeeMode::Mis     ? gpu::kNeeMis
                                                     : gpu::kNeeStandard;

@@ -85,6 +85,7 @@ struct RenderView {
   Camera camera;
   uint32_t seed = 0;
   std::vector<std::pair<uint32_t, glm::vec3>> lightPositions;  // point lights moved for this view
+  float pathOffset = 0.0f;  // optical path outside the scene added before the gate (SceneView)
 };
 
 // The image of each view of a render of `views` views (RenderView), from the rows it was given.

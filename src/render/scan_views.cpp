@@ -8,7 +8,7 @@ std::vector<RenderView> scanViews(const Scan& scan, const Scene& scene) {
   std::vector<RenderView> views;
   for (size_t k = 0; k < scan.views.size(); ++k)
     views.push_back({cameraSeenFrom(scene.camera, scan.views[k]), derivedSeed((uint64_t(scene.render.seed) << 32) ^ k),
-                     scan.views[k].lightPositions});
+                     scan.views[k].lightPositions, scan.views[k].pathOffset});
   return views;
 }
 

@@ -36,7 +36,7 @@ uint32_t pointLightIndex(const JsonValue& where, const Scene& scene, const std::
 
 // A view overrides the pose of the scene's camera (fields that fit its type) and moves point lights.
 SceneView parseSceneView(const JsonValue& value, const Scene& scene) {
-  const JsonObject o(value, {"position", "look_at", "up", "normal", "lights"});
+  const JsonObject o(value, {"position", "look_at", "up", "normal", "lights", "path_offset"});
   const Camera& camera = scene.camera;
   const bool perspective = camera.type == CameraType::Perspective;
   for (std::string_view key : {"look_at", "up"})
@@ -54,6 +54,13 @@ SceneView parseSceneView(const JsonValue& value, const Scene& scene) {
   if (o.has("look_at")) view.lookAt = o.field("look_at").vec3();
   if (o.has("up")) view.up = o.field("up").vec3();
   if (o.has("normal")) view.normal = o.field("normal").vec3();
+  if (o.has("path_offset")) {
+    const double offset = o.number("path_offset", 0.0);
+    if (!(offset >= 0.0 && offset <= 1e6))
+      o.field("path_offset").fail("must be a length in [0, 1e6] m (optical path outside the scene), got " +
+                                  std::to_string(offset));
+    view.pathOffset = float(offset);
+  }
   if (perspective) {
     const glm::vec3 position = view.position.value_or(camera.position);
     const glm::vec3 direction = view.lookAt.value_or(camera.lookAt) - position;

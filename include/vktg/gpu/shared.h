@@ -325,7 +325,8 @@ struct GpuEdge {
 // ---- Per-frame constants -----------------------------------------------------------------------
 struct FrameUniforms {
   vec4 cameraPosition;    // xyz; w: unused
-  vec4 cameraForward;     // perspective: unit view direction; point sensor: unit normal
+  vec4 cameraForward;     // perspective: unit view direction; point sensor: unit normal; w: the view's
+                          // optical path outside the scene (lib/view.glsl, viewPathOffset)
   vec4 cameraRight;       // scaled by tan(fov_y/2) * aspect
   vec4 cameraUp;          // scaled by tan(fov_y/2)
   uvec4 image;            // x: width, y: height, z: spp, w: seed
