@@ -91,6 +91,9 @@ struct View {
   Camera camera;
   uint32_t seed = 0;
   std::vector<std::pair<uint32_t, glm::vec3>> lightPositions;
+  // Optical path outside the scene (metres) that every path of the view counts before the gate:
+  // a capture device's legs to and from the relay wall.
+  float pathOffset = 0.0f;
 };
 
 // The views of a scan file (a relay-wall grid or a list of views; docs/scene-format.md, Scans),

@@ -93,7 +93,7 @@ std::vector<ImageSet> viewImages(const ImageSet& stacked, size_t views) {
 std::vector<View> scanViews(const Model& model, const std::filesystem::path& scanFile) {
   const Scene scene = model.current();
   std::vector<View> out;
-  for (const RenderView& v : scanViews(loadScan(scanFile, scene), scene)) out.push_back({v.camera, v.seed, v.lightPositions});
+  for (const RenderView& v : scanViews(loadScan(scanFile, scene), scene)) out.push_back({v.camera, v.seed, v.lightPositions, v.pathOffset});
   return out;
 }
 
