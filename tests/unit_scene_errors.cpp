@@ -128,6 +128,11 @@ const BadCase kCases[] = {
     {"empty mesh", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "no_meshes.gltf"}}; }, "shapes[1].file", "empty mesh"},
     {"missing mesh file", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "nowhere.glb"}}; }, "shapes[1].file", "not found"},
     {"malformed mesh file", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "malformed.gltf"}}; }, "shapes[1].file", "malformed glTF"},
+    {"unknown mesh file extension", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "tiny.stl"}}; }, "shapes[1].file", "unknown mesh file extension \".stl\""},
+    {"missing OBJ mesh file", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "nowhere.obj"}}; }, "shapes[1].file", "not found"},
+    {"missing PLY mesh file", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "nowhere.PLY"}}; }, "shapes[1].file", "not found"},
+    {"OBJ mesh transform past the float range", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "meshes/prism.obj"}, {"transform", {{"scale", 3e38}, {"rotate", {0, 45, 0}}}}}; }, "shapes[1]", "past the float range"},
+    {"PLY mesh area past the float range", [](json& j) { j["shapes"][1] = {{"type", "mesh"}, {"file", "meshes/prism_le.ply"}, {"transform", {{"scale", 1e20}}}}; }, "shapes[1]", "surface area past the float range"},
     // References and names.
     {"unknown material name", [](json& j) { j["shapes"][0]["material"] = "gold"; }, "shapes[0].material", "unknown material"},
     {"duplicate shape name", [](json& j) { j["shapes"][1]["name"] = "lamp"; }, "shapes[1].name", "duplicate name"},

@@ -1,5 +1,5 @@
 // The JSON scene format (docs/scene-format.md): strict parsing into vktg::Scene, and loadScene,
-// which dispatches on the file extension.
+// which dispatches on the file extension (as a mesh shape's `file` does).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -7,6 +7,7 @@
 #include <numbers>
 #include <set>
 
+#include "scene/mesh_files.h"
 #include "scene/primitives.h"
 #include "scene/scene_values.h"
 #include "vktg/error.h"
@@ -16,6 +17,13 @@ namespace vktg {
 namespace {
 
 namespace fs = std::filesystem;
+
+// ".GLB" and ".glb" name the same format.
+std::string lowerExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
 
 constexpr uint32_t kSceneVersion = 1;
 constexpr uint32_t kMaxResolution = 16384;
@@ -189,22 +197,32 @@ class SceneParser {
     if (o.has("emission")) requireAtLeast(o.field("emission"), emission, 0.0);
     const glm::mat4 transform = parseTransform(o);
 
+    TriangleMesh mesh;
     if (type == "mesh") {
       const JsonValue fileField = o.field("file");
       const fs::path file = m_baseDir / fileField.string();
+      const std::string ext = lowerExtension(file);
+      if (ext != ".gltf" && ext != ".glb" && ext != ".obj" && ext != ".ply")
+        fileField.fail("unknown mesh file extension \"" + ext + "\" (expected .obj, .ply, .gltf or .glb)");
+      if (ext == ".gltf" || ext == ".glb") {
+        try {
+          appendGltfShapes(m_scene, file, material, transform, emission, name);
+        } catch (const Error& e) {
+          fileField.fail(e.what());
+        }
+        const Shape& shape = m_scene.shapes.back();
+        if (!allFinite(shape.positions)) value.fail("transform takes vertex positions past the float range");
+        const double area = meshArea(shape.positions, shape.triangles);
+        if (area <= 0) value.fail("zero area: the mesh has no visible surface");
+        requireFloatSurface(o, value, area, emission);
+        return;
+      }
       try {
-        appendGltfShapes(m_scene, file, material, transform, emission, name);
+        mesh = ext == ".obj" ? loadObjMesh(file) : loadPlyMesh(file);
       } catch (const Error& e) {
         fileField.fail(e.what());
       }
-      const Shape& shape = m_scene.shapes.back();
-      if (!allFinite(shape.positions)) value.fail("transform takes vertex positions past the float range");
-      const double area = meshArea(shape.positions, shape.triangles);
-      if (area <= 0) value.fail("zero area: the mesh has no visible surface");
-      requireFloatSurface(o, value, area, emission);
-      return;
     }
-    TriangleMesh mesh;
     glm::uvec2 grid{0, 0};
     if (type == "rectangle") mesh = makeRectangle();
     if (type == "cube") mesh = makeCube();
@@ -470,8 +488,7 @@ Scene parseSceneJson(const std::string& text, const std::string& file, const std
 }
 
 Scene loadScene(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lowerExtension(path);
   if (ext == ".gltf" || ext == ".glb") return loadGltfScene(path);
   if (ext != ".json")
     fail(path.string(), "", "unknown scene file extension \"" + ext + "\" (expected .json, .gltf or .glb)");
