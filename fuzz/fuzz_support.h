@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "scene/primitives.h"
 #include "vktg/error.h"
 #include "vktg/prepared_scene.h"
 #include "vktg/scene.h"
@@ -34,6 +35,18 @@ void expectOnlyVktgErrors(const Body& body) {
 inline void prepareIfSmall(const Scene& scene) {
   constexpr size_t kMaxTriangles = size_t(1) << 16;
   if (scene.triangleCount() <= kMaxTriangles) prepareScene(scene);
+}
+
+// What a mesh reader promises of every mesh it returns: at least one triangle, every index in
+// range, every coordinate finite. A broken promise is a finding (abort, so libFuzzer keeps it).
+inline void expectWellFormed(const TriangleMesh& mesh) {
+  bool ok = !mesh.triangles.empty() && allFinite(mesh.positions);
+  for (const glm::uvec3& t : mesh.triangles)
+    ok = ok && t.x < mesh.positions.size() && t.y < mesh.positions.size() && t.z < mesh.positions.size();
+  if (!ok) {
+    std::fprintf(stderr, "fuzz: the reader returned a malformed mesh\n");
+    std::abort();
+  }
 }
 
 // A directory only this process writes to, removed when the process exits.
