@@ -478,7 +478,7 @@ TEST(MeshFilesBadPly, ValueOutOfRangeForItsType) {
   std::string header = kAsciiHeader;
   header.replace(header.find("uchar int"), 9, "uchar uchar");
   expectMessage(plyError(header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 256\n"), "bad.ply",
-                {"line 13: face 0: ", "256 is out of range for uchar"});
+                {"line 13: face 0: ", "\"256\" is out of range for uchar"});
 }
 
 TEST(MeshFilesBadPly, TruncatedBody) {
@@ -523,6 +523,17 @@ TEST(MeshFilesBadPly, NoTriangles) {
   std::string header = kAsciiHeader;
   header.replace(header.find("face 1"), 6, "face 0");
   expectMessage(plyError(header + "0 0 0\n1 0 0\n0 1 0\n"), "bad.ply", {"no triangles"});
+}
+
+TEST(MeshFilesBadPly, HeaderThatIsNotText) {
+  expectMessage(plyError("ply\nformat ascii 1.0\nelement ver\x1btex 3\nend_header\n"), "bad.ply",
+                {"header line 3: ", "byte \"\\x1b\" is not printable ASCII"});
+}
+
+TEST(MeshFilesBadPly, WordsInMessagesAreEscapedAndCut) {
+  const std::string message = plyError(kAsciiHeader + "0 0 0\n1 \x01" + std::string(100, 'a') + " 0\n0 1 0\n3 0 1 2\n");
+  expectMessage(message, "bad.ply", {"line 11: vertex 1: ", "\"\\x01" + std::string(39, 'a') + "...\" is not a number"});
+  EXPECT_EQ(message.find('\x01'), std::string::npos) << message;
 }
 
 TEST(MeshFilesBadPly, DuplicateDeclarations) {

@@ -51,8 +51,22 @@ void appendFan(std::vector<glm::uvec3>& triangles, const uint32_t* polygon, size
   for (size_t k = 1; k + 1 < count; ++k) triangles.emplace_back(polygon[0], polygon[k], polygon[k + 1]);
 }
 
-size_t lineNumberAt(std::string_view text, size_t offset) {
-  return 1 + size_t(std::count(text.begin(), text.begin() + std::min(offset, text.size()), '\n'));
+std::string quoteWord(std::string_view word) {
+  constexpr size_t kMaxShown = 40;
+  std::string out = "\"";
+  for (size_t i = 0; i < word.size() && i < kMaxShown; ++i) {
+    const unsigned char c = static_cast<unsigned char>(word[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += char(c);
+    } else {
+      constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  if (word.size() > kMaxShown) out += "...";
+  return out + "\"";
 }
 
 }  // namespace vktg

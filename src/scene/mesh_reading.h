@@ -22,6 +22,10 @@ std::optional<double> parseDecimalWord(std::string_view word);
 // outside the int64 range.
 std::optional<int64_t> parseIntegerWord(std::string_view word);
 
+// A word of the file for an error message: in double quotes, bytes outside printable ASCII as
+// \xNN, cut after 40 characters ("..."), so that the message stays one readable line.
+std::string quoteWord(std::string_view word);
+
 // Whether a coordinate read as a double can be kept as a finite 32-bit float, the precision the
 // renderer keeps positions in.
 bool finiteAsFloat(double value);
@@ -29,9 +33,5 @@ bool finiteAsFloat(double value);
 // The polygon (i0, i1, ..., in-1), n >= 3, as the fan (i0, ik, ik+1) for k = 1 .. n-2: every
 // triangle keeps the polygon's winding, so its front face is the polygon's front face.
 void appendFan(std::vector<glm::uvec3>& triangles, const uint32_t* polygon, size_t count);
-
-// The line number reported for the byte at `offset` of `text`: 1 plus the count of line feeds
-// before it.
-size_t lineNumberAt(std::string_view text, size_t offset);
 
 }  // namespace vktg

@@ -97,7 +97,7 @@ class ObjLines {
       const std::optional<double> value = parseDecimalWord(words[k]);
       if (value && finiteAsFloat(*value)) continue;
       std::string problem = value ? "non-finite vertex coordinate " : "vertex coordinate ";
-      problem.append(1, "xyz"[k]).append(" = \"").append(words[k]).append("\"");
+      problem.append(1, "xyz"[k]).append(" = ").append(quoteWord(words[k]));
       fail(line, problem + (value ? " (as a 32-bit float)" : " is not a number"));
     }
     m_vertexLines.push_back(line);
@@ -115,8 +115,8 @@ class ObjLines {
       const std::optional<int64_t> value = parseIntegerWord(index);
       if (!value || *value == 0 || *value < std::numeric_limits<int>::min() + 1 ||
           *value > std::numeric_limits<int>::max())
-        fail(line, "vertex index \"" + std::string(index) +
-                       "\" is not a non-zero integer (OBJ counts vertices from 1, or back from -1)");
+        fail(line, "vertex index " + quoteWord(index) +
+                       " is not a non-zero integer (OBJ counts vertices from 1, or back from -1)");
     }
     m_faces.push_back(FaceLine{line, rest, corners.size()});
   }

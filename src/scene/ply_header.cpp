@@ -44,6 +44,10 @@ class HeaderParser {
       if (words.empty()) continue;
       const std::string_view keyword = words[0];
       if (keyword == "comment" || keyword == "obj_info") continue;
+      // Names and words of the header reappear in error messages.
+      for (const char c : line)
+        if ((c < 0x20 || c > 0x7e) && c != '\t' && c != '\r')
+          fail("byte " + quoteWord(std::string_view(&c, 1)) + " is not printable ASCII (a PLY header is text)");
       if (keyword == "end_header") {
         if (words.size() != 1) fail("end_header takes nothing after it");
         break;
@@ -57,7 +61,7 @@ class HeaderParser {
       } else if (keyword == "property") {
         readProperty(words);
       } else {
-        fail("unknown header keyword \"" + std::string(keyword) + "\"");
+        fail("unknown header keyword " + quoteWord(keyword));
       }
     }
     if (!haveFormat) vktg::fail(m_file, "", "header without a format line");
@@ -72,8 +76,8 @@ class HeaderParser {
     if (words[1] == "ascii") m_header.format = PlyFormat::Ascii;
     else if (words[1] == "binary_little_endian") m_header.format = PlyFormat::BinaryLittleEndian;
     else if (words[1] == "binary_big_endian") m_header.format = PlyFormat::BinaryBigEndian;
-    else fail("unknown format \"" + std::string(words[1]) + "\" (expected ascii, binary_little_endian or binary_big_endian)");
-    if (words[2] != "1.0") fail("unsupported PLY version \"" + std::string(words[2]) + "\" (this reader reads 1.0)");
+    else fail("unknown format " + quoteWord(words[1]) + " (expected ascii, binary_little_endian or binary_big_endian)");
+    if (words[2] != "1.0") fail("unsupported PLY version " + quoteWord(words[2]) + " (this reader reads 1.0)");
   }
 
   void readElement(const std::vector<std::string_view>& words) {
@@ -83,7 +87,7 @@ class HeaderParser {
     element.line = m_line;
     const std::optional<int64_t> count = parseIntegerWord(words[2]);
     if (!count || *count < 0)
-      fail("element " + element.name + ": count \"" + std::string(words[2]) + "\" is not a non-negative integer");
+      fail("element " + element.name + ": count " + quoteWord(words[2]) + " is not a non-negative integer");
     element.count = uint64_t(*count);
     if (m_header.find(element.name)) fail("element " + element.name + " declared twice");
     m_header.elements.push_back(std::move(element));
@@ -99,7 +103,7 @@ class HeaderParser {
       property.isList = true;
       property.countType = type(words[2]);
       if (!plyTypeIsIntegral(property.countType))
-        fail("list length type " + std::string(words[2]) + " is not an integer type");
+        fail("list length type " + quoteWord(words[2]) + " is not an integer type");
       property.type = type(words[3]);
       property.name = words[4];
     } else {
@@ -114,7 +118,7 @@ class HeaderParser {
   PlyType type(std::string_view name) const {
     for (const TypeName& t : kTypeNames)
       if (t.name == name) return t.type;
-    fail("unknown property type \"" + std::string(name) + "\"");
+    fail("unknown property type " + quoteWord(name));
   }
 
   [[noreturn]] void fail(const std::string& problem) const {

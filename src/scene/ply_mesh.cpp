@@ -194,7 +194,7 @@ class AsciiBody : public BodyPosition {
       if (ec == std::errc() && end == digits.data() + digits.size() && !digits.empty()) return value;
     }
     const std::optional<double> value = parseDecimalWord(w);
-    if (!value) fail(m_file, where(), "property " + p.name + ": \"" + std::string(w) + "\" is not a number");
+    if (!value) fail(m_file, where(), "property " + p.name + ": " + quoteWord(w) + " is not a number");
     return *value;  // a float32 value only comes here when it is outside the float range
   }
   int64_t integer(const PlyProperty& p, PlyType type) { return integerIn(p, word(p), type); }
@@ -217,7 +217,7 @@ class AsciiBody : public BodyPosition {
 
   int64_t integerIn(const PlyProperty& p, std::string_view w, PlyType type) const {
     const std::optional<int64_t> value = parseIntegerWord(w);
-    if (!value) fail(m_file, where(), "property " + p.name + ": \"" + std::string(w) + "\" is not an integer");
+    if (!value) fail(m_file, where(), "property " + p.name + ": " + quoteWord(w) + " is not an integer");
     int64_t lo = 0, hi = 0;
     switch (type) {
       case PlyType::Int8: lo = INT8_MIN, hi = INT8_MAX; break;
@@ -228,7 +228,7 @@ class AsciiBody : public BodyPosition {
       default: hi = UINT32_MAX; break;
     }
     if (*value < lo || *value > hi)
-      fail(m_file, where(), "property " + p.name + ": " + std::string(w) + " is out of range for " + plyTypeName(type));
+      fail(m_file, where(), "property " + p.name + ": " + quoteWord(w) + " is out of range for " + plyTypeName(type));
     return *value;
   }
 
