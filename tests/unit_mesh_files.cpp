@@ -374,6 +374,14 @@ TEST(MeshFilesBadObj, TinyobjloaderErrorKeepsItsLine) {
   expectMessage(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nl 1 0\n"), "bad.obj", {"line 5: ", "malformed OBJ"});
 }
 
+// Found by fuzzing: tinyobjloader makes NaN of a zero with a huge exponent, which the line pass
+// takes for 0.
+TEST(MeshFilesFuzzRegressions, ObjZeroWithHugeExponent) {
+  const fs::path file = kData / "fuzz" / "obj-zero-with-huge-exponent.obj";
+  expectMessage(errorOf([&] { loadObjMesh(file); }), file.string(),
+                {"line 2: ", "non-finite vertex coordinate y (tinyobjloader reads it as NaN"});
+}
+
 // ---- Bad PLY files: each names the file, the header line or element, and the problem.
 
 TEST(MeshFilesBadPly, NotAPlyFile) { expectMessage(plyError("solid cube\n"), "bad.ply", {"not a PLY file"}); }
