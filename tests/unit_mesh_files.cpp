@@ -324,7 +324,7 @@ TEST(MeshFilesBadObj, IndexThatIsNotANumber) {
 
 TEST(MeshFilesBadObj, IndexPastTheIntRange) {
   // tinyobjloader would wrap 4294967297 to 1.
-  expectMessage(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 4294967297 2 3\n"), "bad.obj", {"line 4: ", "\"4294967297\""});
+  expectMessage(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 4294967297 2 3\n"), "bad.obj", {"line 4: ", "\"4294967297\" is beyond the 32-bit integer range"});
 }
 
 TEST(MeshFilesBadObj, RelativeIndexBeforeTheFirstVertex) {

@@ -113,10 +113,11 @@ class ObjLines {
     for (const std::string_view corner : corners) {
       const std::string_view index = vertexIndexWord(corner);
       const std::optional<int64_t> value = parseIntegerWord(index);
-      if (!value || *value == 0 || *value < std::numeric_limits<int>::min() + 1 ||
-          *value > std::numeric_limits<int>::max())
+      if (!value || *value == 0)
         fail(line, "vertex index " + quoteWord(index) +
                        " is not a non-zero integer (OBJ counts vertices from 1, or back from -1)");
+      if (*value < -std::numeric_limits<int>::max() || *value > std::numeric_limits<int>::max())
+        fail(line, "vertex index " + quoteWord(index) + " is beyond the 32-bit integer range");
     }
     m_faces.push_back(FaceLine{line, rest, corners.size()});
   }
