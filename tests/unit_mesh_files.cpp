@@ -513,6 +513,11 @@ TEST(MeshFilesBadPly, HugeCountsFailBeforeAllocating) {
                 {"truncated body: the header declares 4000000000 vertex elements"});
   expectMessage(plyError(binaryHeader("binary_little_endian", 1000000000000, 1)), "bad.ply",
                 {"header line 3: ", "too many vertices"});
+  // The count of an element after a last line without a line feed.
+  expectMessage(plyError("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+                         "element vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\n"
+                         "end_header\n3 0 1 2"),
+                "bad.ply", {"truncated body: the header declares 4000000000 vertex elements"});
   // A list length of 4 billion indices in a 20-byte body.
   Bytes face(false);
   face.put<uint32_t>(4000000000u).put<int32_t>(0).put<int32_t>(1).put<int32_t>(2);
