@@ -324,7 +324,7 @@ TEST(MeshFilesBadObj, IndexThatIsNotANumber) {
 
 TEST(MeshFilesBadObj, IndexPastTheIntRange) {
   // tinyobjloader would wrap 4294967297 to 1.
-  expectMessage(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 4294967297 2 3\n"), "bad.obj", {"line 4: ", "\"4294967297\""});
+  expectMessage(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 4294967297 2 3\n"), "bad.obj", {"line 4: ", "\"4294967297\" is beyond the 32-bit integer range"});
 }
 
 TEST(MeshFilesBadObj, RelativeIndexBeforeTheFirstVertex) {
@@ -372,6 +372,14 @@ TEST(MeshFilesBadObj, NulByte) {
 TEST(MeshFilesBadObj, TinyobjloaderErrorKeepsItsLine) {
   // A zero index in a line statement: lines are ignored, but tinyobjloader refuses the file.
   expectMessage(objError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nl 1 0\n"), "bad.obj", {"line 5: ", "malformed OBJ"});
+}
+
+// Found by fuzzing: tinyobjloader makes NaN of a zero with a huge exponent, which the line pass
+// takes for 0.
+TEST(MeshFilesFuzzRegressions, ObjZeroWithHugeExponent) {
+  const fs::path file = kData / "fuzz" / "obj-zero-with-huge-exponent.obj";
+  expectMessage(errorOf([&] { loadObjMesh(file); }), file.string(),
+                {"line 2: ", "non-finite vertex coordinate y (tinyobjloader reads it as NaN"});
 }
 
 // ---- Bad PLY files: each names the file, the header line or element, and the problem.
@@ -505,6 +513,11 @@ TEST(MeshFilesBadPly, HugeCountsFailBeforeAllocating) {
                 {"truncated body: the header declares 4000000000 vertex elements"});
   expectMessage(plyError(binaryHeader("binary_little_endian", 1000000000000, 1)), "bad.ply",
                 {"header line 3: ", "too many vertices"});
+  // The count of an element after a last line without a line feed.
+  expectMessage(plyError("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+                         "element vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\n"
+                         "end_header\n3 0 1 2"),
+                "bad.ply", {"truncated body: the header declares 4000000000 vertex elements"});
   // A list length of 4 billion indices in a 20-byte body.
   Bytes face(false);
   face.put<uint32_t>(4000000000u).put<int32_t>(0).put<int32_t>(1).put<int32_t>(2);

@@ -4,8 +4,11 @@
 #include <iostream>
 #include <optional>
 
+#include <nlohmann/json.hpp>
+
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/scan_capture.h"
 #include "cli/scan_views.h"
 #include "render/nee_pilot.h"
 #include "render/renderer.h"
@@ -26,7 +29,10 @@ const CommandSpec& renderSpec() {
         "MIS NEE by the lowest predicted relMSE x time on this device where the render is long enough for that to\n"
         "pay (--explain prints the numbers); give --nee to fix the estimator.";
     s.options = sceneOverrideOptions();
-    s.options.push_back({"--out", "FILE.exr", "output image (default out/render.exr); the PNG goes beside it"});
+    s.options.push_back({"--out", "FILE.exr",
+                         "output image (default out/render.exr); the PNG goes beside it. FILE.hdf5 or FILE.h5 with --scan: the "
+                         "scan's transients as an NLOS capture in tal's HDF5 layout instead of the EXR (a point sensor and a "
+                         "bins gate; docs/scene-format.md, NLOS captures)"});
     s.options.push_back({"--npy", "", "also write FILE.npy, float32 of shape (H, W, T)"});
     s.options.push_back(scanOption("the image"));
     s.options.push_back({"--profile", "", "print GPU time per pass"});
@@ -41,7 +47,8 @@ const CommandSpec& renderSpec() {
         "  vktg render scenes/cornell_box.json --gate box:3.5,4.5 --spp 256\n"
         "  vktg render scenes/cornell_box.json --gate bins:3,0.1,40 --out out/stack.exr --npy\n"
         "  vktg render scenes/confocal_plane.json --gate gaussian:2,0.002 --explain\n"
-        "  vktg render experiments/confocal_scan/scene.json --scan experiments/confocal_scan/scan.json --npy\n";
+        "  vktg render experiments/confocal_scan/scene.json --scan experiments/confocal_scan/scan.json --npy\n"
+        "  vktg render experiments/confocal_scan/scene.json --scan experiments/confocal_scan/scan.json --out out/scan.hdf5\n";
     return s;
   }();
   return spec;
@@ -63,12 +70,15 @@ int runRender(const std::vector<std::string>& argv) {
   const std::string pilot = args.get("--pilot").value_or("auto");
   if (pilot != "auto" && pilot != "on" && pilot != "off")
     throw UsageError("--pilot: '" + pilot + "' is not one of auto, on, off");
-  std::filesystem::path exr = outputPath(args, "render");
+  // --out FILE.hdf5 / FILE.h5: the scan as an NLOS capture in place of the EXR.
+  const bool capture = args.get("--out") && isCapturePath(*args.get("--out"));
+  std::filesystem::path exr = capture ? std::filesystem::path(*args.get("--out")) : outputPath(args, "render");
   std::filesystem::path png = withExtension(exr, ".png");
   std::filesystem::path npy = withExtension(exr, ".npy");
   std::vector<std::filesystem::path> inputs;
   if (!args.positionals.empty()) inputs.push_back(args.positionals[0]);
   const std::optional<Scan> scan = scanOf(args, scene, inputs);
+  if (capture) checkScanCapture(scene, scan, exr);
   for (const auto& out : {exr, png, npy}) checkOutputPath(out, inputs);
 
   auto context = makeContext(args);
@@ -88,7 +98,18 @@ int runRender(const std::vector<std::string>& argv) {
   if (scan) result.mean = scanImage(result.mean, *scan, scene.camera.type);
   if (args.has("--explain")) std::cout << "plan (" << context->report().name << "):\n" << explainPlan(result.plan);
 
-  writeExr(exr, result.mean);
+  if (capture) {
+    // What tal keeps in scene_info: where the transients came from.
+    const nlohmann::json info = {{"generator", "vktg render"},
+                                 {"scene", args.positionals.empty() ? std::string("(built-in default)") : args.positionals[0]},
+                                 {"scan", *args.get("--scan")},
+                                 {"spp", scene.render.spp},
+                                 {"seed", scene.render.seed},
+                                 {"gate", scene.gate.describe()}};
+    writeCaptureTal(exr, scanCapture(scene, *scan, result.mean, info.dump() + "\n"));
+  } else {
+    writeExr(exr, result.mean);
+  }
   if (result.mean.layers.size() == 1)
     writePngRadiance(png, result.mean.width, result.mean.height, result.mean.layers[0].pixels);
   else

@@ -113,10 +113,11 @@ class ObjLines {
     for (const std::string_view corner : corners) {
       const std::string_view index = vertexIndexWord(corner);
       const std::optional<int64_t> value = parseIntegerWord(index);
-      if (!value || *value == 0 || *value < std::numeric_limits<int>::min() + 1 ||
-          *value > std::numeric_limits<int>::max())
+      if (!value || *value == 0)
         fail(line, "vertex index " + quoteWord(index) +
                        " is not a non-zero integer (OBJ counts vertices from 1, or back from -1)");
+      if (*value < -std::numeric_limits<int>::max() || *value > std::numeric_limits<int>::max())
+        fail(line, "vertex index " + quoteWord(index) + " is beyond the 32-bit integer range");
     }
     m_faces.push_back(FaceLine{line, rest, corners.size()});
   }
@@ -172,8 +173,13 @@ TriangleMesh parseObjMesh(const std::string& bytes, const std::string& file) {
   mesh.positions.resize(vertexCount);
   for (size_t i = 0; i < vertexCount; ++i) {
     const glm::vec3 p(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      fail(file, "line " + std::to_string(lines.vertexLines()[i]), "non-finite vertex coordinate");
+    // The line pass found finite numbers, but tinyobjloader's own conversion can still overflow
+    // ("0e999" is 0 * 5^999 to it: NaN).
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(p[k]))
+        fail(file, "line " + std::to_string(lines.vertexLines()[i]),
+             std::string("non-finite vertex coordinate ") + "xyz"[k] +
+                 " (tinyobjloader reads it as NaN or infinity; write it without a huge exponent)");
     mesh.positions[i] = p;
   }
 

@@ -172,7 +172,7 @@ class AsciiBody : public BodyPosition {
       if (m_at >= m_bytes.size()) truncated();
       const size_t end = std::min(m_bytes.find('\n', m_at), m_bytes.size());
       m_words = splitWords(m_bytes.substr(m_at, end - m_at));
-      m_at = end + 1;
+      m_at = std::min(end + 1, m_bytes.size());  // the last line may have no line feed
       ++m_line;
     }
     m_next = 0;
