@@ -32,7 +32,7 @@ json confocalGrid() {
             {"resolution", {3, 2}}, {"lights", {"laser"}}}}};
 }
 
-TEST(CliRenderCapture, ACaptureHoldsTheScanImageAndItsGrid) {
+TEST(CliRenderHdf5, ACaptureHoldsTheScanImageAndItsGrid) {
   TempDir dir;
   writeJsonFile(dir / "scan.json", confocalGrid());
   auto render = [&](const std::string& out) {
@@ -71,7 +71,7 @@ TEST(CliRenderCapture, ACaptureHoldsTheScanImageAndItsGrid) {
   EXPECT_NEAR(capture.deltaT, scene["gate"]["width"].get<double>(), 1e-6);
 }
 
-TEST(CliRenderCapture, WhatIsNoCaptureIsAnErrorAndWritesNothing) {
+TEST(CliRenderHdf5, WhatIsNoCaptureIsAnErrorAndWritesNothing) {
   TempDir dir;
   writeJsonFile(dir / "scan.json", confocalGrid());
   const fs::path out = dir / "scan.hdf5";
