@@ -13,6 +13,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "opt/experiment_capture.h"
 #include "plan/terms.h"
 #include "scene/scene_values.h"
 #include "scene/scan.h"
@@ -129,9 +130,9 @@ class ExperimentParser {
   }
 
   // One target, or one per point of a "scan" (named <name>_<column>_<row> for a grid, <name>_<k>
-  // for a list of views; synthesised ones with consecutive seeds).
+  // for a list of views; synthesised ones with consecutive seeds), or of a "capture" file.
   void parseTarget(const JsonValue& value, size_t entry, std::set<std::string>& names) {
-    const JsonObject o(value, {"name", "view", "scan", "gate", "image", "weight"});
+    const JsonObject o(value, {"name", "view", "scan", "capture", "lights", "gate", "image", "weight"});
     Target target;
     target.entry = entry;
     target.name = o.string("name", "target_" + std::to_string(entry));
@@ -141,12 +142,21 @@ class ExperimentParser {
       nameWhere.fail("invalid target name " + inQuotes(target.name) +
                      " (use letters, digits, '_', '-' and '.': it names files and log columns)");
     // A scan's name names its log column and initial image, as a single target's does.
-    if (o.has("scan") && !names.insert(target.name).second) nameWhere.fail("duplicate target name " + inQuotes(target.name));
+    if ((o.has("scan") || o.has("capture")) && !names.insert(target.name).second)
+      nameWhere.fail("duplicate target name " + inQuotes(target.name));
     if (o.has("view") && o.has("scan")) o.field("scan").fail("a target takes a view or a scan, not both");
-    if (o.has("view")) target.view = parseSceneView(o.field("view"), m_x.scene);
-    target.gate = o.has("gate") ? parseGateValue(o.field("gate")) : m_x.scene.gate;
+    if (o.has("lights") && !o.has("capture")) o.field("lights").fail("only with \"capture\": the lights at a capture's laser points");
     target.weight = o.number("weight", target.weight);
     if (o.has("weight")) requireAbove(o.field("weight"), target.weight, 0.0);
+    if (o.has("capture")) {
+      for (const char* other : {"view", "scan", "gate", "image"})
+        if (o.has(other))
+          o.field(other).fail("not with \"capture\": a capture file gives the target its views, its bins and its image");
+      parseCapture(o, target, nameWhere, names);
+      return;
+    }
+    if (o.has("view")) target.view = parseSceneView(o.field("view"), m_x.scene);
+    target.gate = o.has("gate") ? parseGateValue(o.field("gate")) : m_x.scene.gate;
     parseImage(o.field("image"), m_x.targets.size(), target);
     if (!o.has("scan")) {
       addTarget(std::move(target), nameWhere, names);
@@ -156,18 +166,48 @@ class ExperimentParser {
     const std::string path = scanField.string();
     if (path.empty()) scanField.fail("empty path: name a scan file (relative to this file's folder)");
     const Scan scan = loadScan(m_baseDir / path, m_x.scene);
-    for (size_t k = 0; k < scan.views.size(); ++k) {
+    addScanTargets(target, scan.views, scan.columns, scan.rows, scan.grid, nameWhere, names);
+  }
+
+  // A scan's points as targets: `target` with each view, in scan order.
+  void addScanTargets(const Target& target, const std::vector<SceneView>& views, uint32_t columns, uint32_t rows, bool grid,
+                      const JsonValue& nameWhere, std::set<std::string>& names) {
+    for (size_t k = 0; k < views.size(); ++k) {
       Target point = target;
-      const uint32_t column = uint32_t(k % scan.columns), row = uint32_t(k / scan.columns);
-      point.name += scan.grid ? "_" + std::to_string(column) + "_" + std::to_string(row) : "_" + std::to_string(k);
-      point.view = scan.views[k];
+      const uint32_t column = uint32_t(k % columns), row = uint32_t(k / columns);
+      point.name += grid ? "_" + std::to_string(column) + "_" + std::to_string(row) : "_" + std::to_string(k);
+      point.view = views[k];
       point.scanView = uint32_t(k);
-      point.scanViews = uint32_t(scan.views.size());
-      point.scanColumns = scan.columns;
-      point.scanRows = scan.rows;
+      point.scanViews = uint32_t(views.size());
+      point.scanColumns = columns;
+      point.scanRows = rows;
       if (point.synthesize) point.synthesizeSeed = target.synthesizeSeed + uint32_t(k);
       addTarget(std::move(point), nameWhere, names);
     }
+  }
+
+  // {"capture": FILE, "lights": [NAMES]}: a scan whose views, bins and image a capture file holds
+  // (experiment_capture.cpp).
+  void parseCapture(const JsonObject& o, Target target, const JsonValue& nameWhere, std::set<std::string>& names) {
+    const JsonValue field = o.field("capture");
+    const std::string path = field.string();
+    if (path.empty()) field.fail("empty path: name an HDF5 capture file (relative to this file's folder)");
+    if (m_x.scene.camera.type != CameraType::PointSensor)
+      field.fail("a capture's transients are measured by a point sensor at each wall point, but the scene's camera is a pinhole");
+    std::vector<uint32_t> lights;
+    const JsonValue lightsField = o.field("lights");
+    if (lightsField.array().empty()) lightsField.fail("empty list: name the scene's point lights that sit at the laser points");
+    for (size_t k = 0; k < lightsField.array().size(); ++k) {
+      const JsonValue name = lightsField.element(k);
+      const uint32_t light = pointLightIndex(name, m_x.scene, name.string());
+      if (std::find(lights.begin(), lights.end(), light) != lights.end()) name.fail("light " + inQuotes(name.string()) + " listed twice");
+      lights.push_back(light);
+    }
+    target.image = m_baseDir / path;
+    target.capture = true;
+    const CaptureTargets expanded = captureTargets(target.image, lights, field);
+    target.gate = expanded.gate;
+    addScanTargets(target, expanded.views, expanded.columns, expanded.rows, expanded.grid, nameWhere, names);
   }
 
   void addTarget(Target target, const JsonValue& nameWhere, std::set<std::string>& names) {

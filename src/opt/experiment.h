@@ -38,9 +38,11 @@ struct Target {
   double weight = 1;                // factor on this target's loss
   std::filesystem::path image;      // an EXR whose size and layers match the view and gate ...
   bool synthesize = false;          // ... or rendered at the truth with independent random numbers
+  bool capture = false;             // ... or `image` is an NLOS capture file (experiment_capture.h)
   uint32_t synthesizeSpp = 4096;
   uint32_t synthesizeSeed = 0x5eed;  // the parser's default: 0x5eed + the target's index
-  // The "targets" entry this target comes from: a "scan" entry makes one target per scan point.
+  // The "targets" entry this target comes from: a "scan" or "capture" entry makes one target per
+  // scan point.
   size_t entry = 0;
   std::string entryName;            // that entry's name: names its log column and initial image
   // A scan point's target: its view of the scan, of scanViews, whose image is laid out as `vktg

@@ -3,12 +3,16 @@
 #include <cmath>
 
 #include "opt/experiment.h"
+#include "opt/experiment_capture.h"
 #include "vktg/error.h"
 
 namespace vktg {
 namespace {
 
-std::string imageField(size_t target) { return "targets[" + std::to_string(target) + "].image"; }
+// The field that names a target's image: its "image", or its "capture" file.
+std::string imageField(const Target& target) {
+  return "targets[" + std::to_string(target.entry) + (target.capture ? "].capture" : "].image");
+}
 
 std::string describeShape(uint32_t width, uint32_t height, size_t layers) {
   return std::to_string(width) + "x" + std::to_string(height) + " with " + std::to_string(layers) +
@@ -21,7 +25,7 @@ std::string describeImage(const Target& target) {
 
 [[noreturn]] void failTarget(const Experiment& experiment, size_t target, const std::string& problem) {
   const Target& t = experiment.targets[target];
-  fail(experiment.source.string(), imageField(t.entry), "target \"" + t.name + "\": " + problem);
+  fail(experiment.source.string(), imageField(t), "target \"" + t.name + "\": " + problem);
 }
 
 // The size of a scan's whole image (laid out as `vktg render --scan` writes it) and of one point's.
@@ -108,10 +112,11 @@ namespace {
 ImageSet readTargetFile(const Experiment& experiment, size_t target) {
   const Target& t = experiment.targets.at(target);
   if (t.synthesize) failTarget(experiment, target, "is synthesised by rendering: it has no file to read");
+  if (t.capture) return captureTargetImage(t.image, experiment.source.string(), imageField(t));
   try {
     return readExr(t.image);
   } catch (const Error& e) {
-    fail(experiment.source.string(), imageField(t.entry), e.what());
+    fail(experiment.source.string(), imageField(t), e.what());
   }
 }
 
