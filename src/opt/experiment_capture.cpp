@@ -9,6 +9,7 @@ namespace vktg {
 namespace {
 
 constexpr double kMaxPathOffset = 1e6;  // metres, as a view's path_offset allows
+constexpr uint32_t kMaxBins = 65536;    // as a bins gate of a scene allows
 
 }  // namespace
 
@@ -27,6 +28,8 @@ CaptureTargets captureTargets(const std::filesystem::path& path, const std::vect
   out.gate.binCount = capture.bins();
   if (capture.tStart < 0)
     field.fail(file + ": t_start: " + formatNumber(capture.tStart) + " m: the bins of a gate start at a path length >= 0");
+  if (capture.bins() > kMaxBins)
+    field.fail(file + ": H: " + std::to_string(capture.bins()) + " time bins; a bins gate has at most " + std::to_string(kMaxBins));
   try {
     validateGate(out.gate, file, "t_start, delta_t, H");
   } catch (const Error& e) {
