@@ -22,7 +22,7 @@ CaptureHFormat readHFormat(const File& file) {
   if (value >= 1 && value <= 4) return CaptureHFormat(value);
   for (const auto& [name, v] : talHFormatMembers())
     if (v == value) {
-      if (value == 0) failAt(file, "H_format", "0 (UNKNOWN): tal's placeholder, not an axis order");
+      if (value == 0) failAt(file, "H_format", "0 (UNKNOWN): tal's value for a format not yet known, not an axis order");
       failAt(file, "H_format", std::to_string(value) + " (" + name +
                                    ") is frequency-domain data; vktg reads time-domain captures (T_Sx_Sy, "
                                    "T_Lx_Ly_Sx_Sy, T_Si, T_Li_Si)");
@@ -52,7 +52,7 @@ CaptureGrid readGrid(const File& file, const std::string& prefix) {
   const std::string xyzName = prefix + "_grid_xyz", normalsName = prefix + "_grid_normals", formatName = prefix + "_grid_format";
   const int64_t format = hdf5::readInteger(file, hdf5::openDataset(file, formatName));
   if (format != kGridFormatN3 && format != kGridFormatXY3)
-    failAt(file, formatName, format == 0 ? "0 (UNKNOWN): tal's placeholder, not a grid layout"
+    failAt(file, formatName, format == 0 ? "0 (UNKNOWN): tal's value for a layout not yet known, not a grid layout"
                                          : "unknown grid format " + std::to_string(format) + " (tal's are 1 N_3, 2 X_Y_3)");
   const bool xy = format == kGridFormatXY3;
   const Dataset xyz = hdf5::openDataset(file, xyzName);

@@ -27,23 +27,21 @@ std::string_view withoutPlus(std::string_view word) {
   return word;
 }
 
+// The whole word as a T (std::from_chars, after an optional leading '+'), or nothing.
+template <typename T>
+std::optional<T> parseWord(std::string_view word) {
+  word = withoutPlus(word);
+  T value = 0;
+  const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
+  if (ec != std::errc() || end != word.data() + word.size() || word.empty()) return std::nullopt;
+  return value;
+}
+
 }  // namespace
 
-std::optional<double> parseDecimalWord(std::string_view word) {
-  word = withoutPlus(word);
-  double value = 0;
-  const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
-  if (ec != std::errc() || end != word.data() + word.size() || word.empty()) return std::nullopt;
-  return value;
-}
+std::optional<double> parseDecimalWord(std::string_view word) { return parseWord<double>(word); }
 
-std::optional<int64_t> parseIntegerWord(std::string_view word) {
-  word = withoutPlus(word);
-  int64_t value = 0;
-  const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
-  if (ec != std::errc() || end != word.data() + word.size() || word.empty()) return std::nullopt;
-  return value;
-}
+std::optional<int64_t> parseIntegerWord(std::string_view word) { return parseWord<int64_t>(word); }
 
 bool finiteAsFloat(double value) { return std::abs(value) <= double(std::numeric_limits<float>::max()); }
 
