@@ -8,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/mpi_world.h"
 #include "cli/scan_capture.h"
 #include "cli/scan_views.h"
 #include "render/nee_pilot.h"
@@ -60,7 +61,10 @@ int runRender(const std::vector<std::string>& argv) {
     std::cout << helpText(renderSpec());
     return 0;
   }
-  bool quiet = args.has("--quiet");
+  // Under mpirun (docs/mpi.md) rank 0 reports and writes; every process renders its share.
+  Collective* const world = cli::world();
+  const bool root = !world || world->root();
+  bool quiet = args.has("--quiet") || !root;
   Scene scene = loadSceneWithOverrides(args, true);
   RenderOptions options;
   applyEstimatorOptions(args, options);
@@ -86,15 +90,31 @@ int runRender(const std::vector<std::string>& argv) {
   Renderer renderer(*context);
   DeviceScene deviceScene(*context, scene);
   RenderSetup setup = RenderSetup::of(scene);
-  const std::vector<RenderView> views = scan ? scanViews(*scan, scene) : std::vector<RenderView>{};
+  const std::vector<RenderView> allViews = scan ? scanViews(*scan, scene) : std::vector<RenderView>{};
+  // Each process renders its share of the scan's views (each view's image is bits of its own,
+  // whichever views it is rendered with); a render of one view is rank 0's alone: split by samples,
+  // its pixels would sum their samples in another order.
+  const Share share = shareOf(allViews.size(), world);
+  const std::vector<RenderView> views(allViews.begin() + ptrdiff_t(share.begin), allViews.begin() + ptrdiff_t(share.end));
   if (scan) {
     // The pilot measures the first view.
-    setup.camera = views.front().camera;
-    deviceScene.placePointLights(views.front().lightPositions);
+    setup.camera = allViews.front().camera;
+    deviceScene.placePointLights(allViews.front().lightPositions);
   }
-  if (pilot != "off") chooseNeeByPilot(renderer, deviceScene, setup, options, pilot == "auto");
+  if (pilot != "off") {
+    // The pilot's choice rests on timings: rank 0's holds for all.
+    if (root) chooseNeeByPilot(renderer, deviceScene, setup, options, pilot == "auto");
+    if (world) options.nee = NeeMode(int(broadcastDouble(*world, double(int(options.nee)))));
+  }
   options.progress = makeProgress("render", quiet);
-  RenderResult result = scan ? renderer.render(deviceScene, setup, views, options) : renderer.render(deviceScene, setup, options);
+  RenderResult result;
+  if (scan && !views.empty()) result = renderer.render(deviceScene, setup, views, options);
+  else if (!scan && root) result = renderer.render(deviceScene, setup, options);
+  if (world) {
+    if (scan) result.mean = gatherStackedViews(*world, result.mean);
+    sumStats(*world, result.stats);
+  }
+  if (!root) return finishWithValidationCheck(*context, result.stats.nonFinite == 0 ? 0 : 4);
   if (scan) result.mean = scanImage(result.mean, *scan, scene.camera.type);
   if (args.has("--explain")) std::cout << "plan (" << context->report().name << "):\n" << explainPlan(result.plan);
 
@@ -129,8 +149,13 @@ int runRender(const std::vector<std::string>& argv) {
   if (!quiet) {
     std::fprintf(stderr, "vktg: %s, %ux%u, %u spp, %s NEE on %s\n", scene.gate.describe().c_str(), result.mean.width,
                  result.mean.height, scene.render.spp, neeModeName(result.plan.nee), context->report().name.c_str());
-    if (scan)
+    if (scan && world && world->size() > 1)
+      std::fprintf(stderr, "vktg: %zu scan views (%u x %u) over %d processes\n", scan->views.size(), scan->columns, scan->rows,
+                   world->size());
+    else if (scan)
       std::fprintf(stderr, "vktg: %zu scan views (%u x %u) in one render\n", scan->views.size(), scan->columns, scan->rows);
+    else if (world && world->size() > 1)
+      std::fprintf(stderr, "vktg: one view: rendered by rank 0 alone (a view's samples are not split over processes)\n");
     std::fprintf(stderr, "vktg: %.3f s render (%.3f s total): %.3g paths/s, %.3g rays/s\n", st.seconds, wall,
                  double(st.paths) / st.seconds, double(st.extensionRays + st.shadowRays) / st.seconds);
     std::fprintf(stderr, "vktg: %llu paths ended by the gate cutoff, %llu by roulette, %llu at max depth; %llu non-finite\n",

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include "cli/mpi_world.h"
 #include "vktg/error.h"
 
 namespace vktg::cli {
@@ -31,6 +32,14 @@ std::vector<OptionSpec> sceneOverrideOptions() {
 std::unique_ptr<VulkanContext> makeContext(const ParsedArgs& args) {
   ContextOptions options = contextOptionsFromEnvironment();
   if (auto device = args.get("--device")) options.device = *device;
+  // Under mpirun the processes of one machine take a GPU each, the local rank-th (round robin when
+  // there are more processes than GPUs); without a GPU they share the default device.
+  if (const Collective* w = world(); w && w->size() > 1 && (options.device.empty() || options.device == "gpu")) {
+    std::vector<uint32_t> gpus;
+    for (const DeviceReport& d : VulkanContext::listDevices())
+      if (d.usable && d.type != "cpu") gpus.push_back(d.index);
+    if (!gpus.empty()) options.device = std::to_string(gpus[size_t(localRank()) % gpus.size()]);
+  }
   return std::make_unique<VulkanContext>(options);
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/mpi_world.h"
 #include "render/interrupt.h"
 #include "vk/vk_check.h"
 #include "vk/vk_context.h"
@@ -37,6 +38,44 @@ void printUsage(std::FILE* out) {
   for (const auto& c : kSubcommands) std::fprintf(out, "  %-8s %s\n", c.name, c.summary);
 }
 
+// One `vktg: error:` line for a failure. Under mpirun a failure all processes agreed on is printed
+// by rank 0 alone (it names the rank that failed); any other names the rank it happened in.
+void printError(const char* message, const char* suffix = "") {
+  const vktg::Collective* world = vktg::cli::world();
+  if (world && world->failureAgreed() && !world->root()) return;
+  if (world && !world->failureAgreed() && world->size() > 1)
+    std::fprintf(stderr, "vktg: error: rank %d of %d: %s%s\n", world->rank(), world->size(), message, suffix);
+  else
+    std::fprintf(stderr, "vktg: error: %s%s\n", message, suffix);
+}
+
+// Runs a subcommand; `failed` says whether it ended by an exception (its status then follows it).
+int runSubcommand(const Subcommand& c, const std::vector<std::string>& args, bool& failed) {
+  failed = true;
+  try {
+    const int status = c.run(args);
+    failed = false;
+    // A validation message at device destruction (an object never destroyed) fails the run as
+    // any other validation message does (exit status 3).
+    return status == 0 && vktg::validationFailedAtExit() ? 3 : status;
+  } catch (const vktg::Interrupted& e) {
+    printError(e.what());
+    return 128 + e.signal();
+  } catch (const vktg::cli::UsageError& e) {
+    printError(e.what(), (std::string("\n(see `vktg ") + c.name + " --help`)").c_str());
+    return 2;
+  } catch (const vktg::Error& e) {
+    printError(e.what());
+    return 1;
+  } catch (const vktg::VulkanError& e) {
+    printError(e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    printError(e.what());
+    return 1;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -54,26 +93,19 @@ int main(int argc, char** argv) {
   for (const auto& c : kSubcommands) {
     if (command != c.name) continue;
     try {
-      const int status = c.run(args);
-      // A validation message at device destruction (an object never destroyed) fails the run as
-      // any other validation message does (exit status 3).
-      return status == 0 && vktg::validationFailedAtExit() ? 3 : status;
-    } catch (const vktg::Interrupted& e) {
-      std::fprintf(stderr, "vktg: error: %s\n", e.what());
-      return 128 + e.signal();
-    } catch (const vktg::cli::UsageError& e) {
-      std::fprintf(stderr, "vktg: error: %s\n(see `vktg %s --help`)\n", e.what(), c.name);
-      return 2;
+      vktg::cli::joinWorld();
     } catch (const vktg::Error& e) {
       std::fprintf(stderr, "vktg: error: %s\n", e.what());
       return 1;
-    } catch (const vktg::VulkanError& e) {
-      std::fprintf(stderr, "vktg: error: %s\n", e.what());
-      return 1;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "vktg: error: %s\n", e.what());
-      return 1;
     }
+    bool failed = false;
+    const int status = runSubcommand(c, args, failed);
+    // A process that failed on its own may leave its peers waiting for it in an exchange: it
+    // ends them all (mpirun reports the abort). One whose failure all agreed on ends normally.
+    const vktg::Collective* world = vktg::cli::world();
+    if (failed && world && world->size() > 1 && !world->failureAgreed()) vktg::cli::abortWorld(status);
+    vktg::cli::leaveWorld();
+    return status;
   }
   std::fprintf(stderr, "vktg: error: unknown command '%s'\n", command.c_str());
   printUsage(stderr);
