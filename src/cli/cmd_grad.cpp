@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/mpi_world.h"
 #include "cli/scan_views.h"
 #include "grad/gradient.h"
 #include "vktg/image_io.h"
@@ -104,7 +105,11 @@ int runGrad(const std::vector<std::string>& argv) {
     std::cout << helpText(gradSpec());
     return 0;
   }
-  bool quiet = args.has("--quiet");
+  // Under mpirun (docs/mpi.md) each process differentiates its share of the scan's views; rank 0
+  // gathers and writes.
+  Collective* const world = cli::world();
+  const bool root = !world || world->root();
+  bool quiet = args.has("--quiet") || !root;
   Scene scene = loadSceneWithOverrides(args, true);
   std::vector<std::string> names = selectParameters(scene, args.get("--param").value_or(""));
   GradientOptions gradient;
@@ -140,7 +145,33 @@ int runGrad(const std::vector<std::string>& argv) {
   auto context = makeContext(args);
   Renderer renderer(*context);
   options.progress = makeProgress("grad", quiet);
-  GradientResult result = renderGradient(renderer, scene, names, gradient, scan ? scanViews(*scan, scene) : std::vector<RenderView>{});
+  const std::vector<RenderView> allViews = scan ? scanViews(*scan, scene) : std::vector<RenderView>{};
+  // A view's derivative images are bits of their own whichever views they are rendered with; one
+  // view is rank 0's alone (split by samples, its pixels would sum them in another order).
+  const Share share = shareOf(allViews.size(), world);
+  GradientResult result;
+  if (scan && !share.empty())
+    result = renderGradient(renderer, scene, names, gradient,
+                            std::vector<RenderView>(allViews.begin() + ptrdiff_t(share.begin), allViews.begin() + ptrdiff_t(share.end)));
+  else if (!scan && root)
+    result = renderGradient(renderer, scene, names, gradient);
+  if (world) {
+    // Every term's images and the total, in one exchange: per parameter, the processes' views
+    // stacked in order (a term that did not run: images without layers).
+    std::vector<TermImages*> terms = {&result.total, &result.interior, &result.edges, &result.pathLength};
+    std::vector<ImageSet> mine;
+    for (TermImages* term : terms)
+      for (size_t p = 0; p < names.size(); ++p) mine.push_back(p < term->derivatives.size() ? term->derivatives[p] : ImageSet{});
+    if (scan) {
+      const std::vector<ImageSet> all = gatherStackedViews(*world, mine);
+      for (size_t k = 0; k < terms.size() && root; ++k) {
+        terms[k]->derivatives.assign(all.begin() + ptrdiff_t(k * names.size()), all.begin() + ptrdiff_t((k + 1) * names.size()));
+        if (terms[k]->derivatives.empty() || terms[k]->derivatives.front().layers.empty()) terms[k]->derivatives.clear();
+      }
+    }
+    sumStats(*world, result.stats);
+    if (!root) return finishWithValidationCheck(*context, result.stats.nonFinite == 0 ? 0 : 4);
+  }
   if (args.has("--explain")) {
     std::cout << "plan (" << context->report().name << "):\n" << explainPlan(result.primal.plan);
     for (const std::string& reason : result.plan.reasons) std::cout << "  - " << reason << "\n";

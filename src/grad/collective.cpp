@@ -146,22 +146,32 @@ std::vector<ImageSet> gatherImages(Collective& collective, const std::vector<Ima
   return unpackAll(collective.gather(packImages(images)));
 }
 
-ImageSet gatherStackedViews(Collective& collective, const ImageSet& mine) {
-  const std::vector<ImageSet> parts = gatherImages(collective, {mine});
-  ImageSet out;
-  for (const ImageSet& part : parts) {
+std::vector<ImageSet> gatherStackedViews(Collective& collective, const std::vector<ImageSet>& mine) {
+  const std::vector<ImageSet> parts = gatherImages(collective, mine);
+  if (!collective.root()) return {};
+  if (parts.size() != mine.size() * size_t(collective.size()))
+    throw Error("internal: processes sent different numbers of images");
+  std::vector<ImageSet> out(mine.size());
+  for (size_t k = 0; k < parts.size(); ++k) {
+    const ImageSet& part = parts[k];
+    ImageSet& into = out[k % mine.size()];
     if (part.layers.empty()) continue;  // a process without views
-    if (out.layers.empty()) {
-      out = part;
+    if (into.layers.empty()) {
+      into = part;
       continue;
     }
-    if (part.width != out.width || part.layers.size() != out.layers.size())
+    if (part.width != into.width || part.layers.size() != into.layers.size())
       throw Error("internal: processes rendered views of different images");
-    out.height += part.height;
-    for (size_t l = 0; l < out.layers.size(); ++l)
-      out.layers[l].pixels.insert(out.layers[l].pixels.end(), part.layers[l].pixels.begin(), part.layers[l].pixels.end());
+    into.height += part.height;
+    for (size_t l = 0; l < into.layers.size(); ++l)
+      into.layers[l].pixels.insert(into.layers[l].pixels.end(), part.layers[l].pixels.begin(), part.layers[l].pixels.end());
   }
   return out;
+}
+
+ImageSet gatherStackedViews(Collective& collective, const ImageSet& mine) {
+  std::vector<ImageSet> out = gatherStackedViews(collective, std::vector<ImageSet>{mine});
+  return out.empty() ? ImageSet{} : std::move(out[0]);
 }
 
 void sumStats(Collective& collective, RenderStats& s) {

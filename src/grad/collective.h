@@ -72,6 +72,8 @@ std::vector<ImageSet> gatherImages(Collective& collective, const std::vector<Ima
 // processes' rows one below the other, as one render of all the views stacks them; an empty image
 // elsewhere. A process without views passes an image without layers.
 ImageSet gatherStackedViews(Collective& collective, const ImageSet& mine);
+// The same for several images at once, each stacked with the same image of the other processes.
+std::vector<ImageSet> gatherStackedViews(Collective& collective, const std::vector<ImageSet>& mine);
 // The counters of every process's renders summed (paths, rays, non-finite samples...), so that
 // every process reports, and decides by, the whole run's.
 void sumStats(Collective& collective, RenderStats& stats);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <ctime>
 #include <cstdlib>
 #include <memory>
 
@@ -18,6 +19,18 @@ namespace {
 
 // MPI counts are ints: larger messages go in pieces.
 constexpr size_t kPiece = size_t(1) << 30;
+
+// Waits for an exchange without spinning: MPI's blocking calls poll at full speed, and a process
+// that waits for its peers would take the cores they render on (processes sharing lavapipe, or
+// more processes than cores). A tenth of a millisecond between polls costs nothing next to a render.
+void finish(MPI_Request& request) {
+  for (int done = 0;;) {
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) return;
+    const timespec pause = {0, 100000};
+    nanosleep(&pause, nullptr);
+  }
+}
 
 class MpiWorld final : public Collective {
  public:
@@ -36,13 +49,11 @@ class MpiWorld final : public Collective {
 
   void sumWrapping(std::span<uint64_t> values) override {
     for (size_t at = 0; at < values.size(); at += kPiece)
-      MPI_Allreduce(MPI_IN_PLACE, values.data() + at, int(std::min(kPiece, values.size() - at)), MPI_UINT64_T, MPI_SUM,
-                    MPI_COMM_WORLD);
+      reduce(values.data() + at, int(std::min(kPiece, values.size() - at)), MPI_UINT64_T, MPI_SUM);
   }
   void max(std::span<double> values) override {
     for (size_t at = 0; at < values.size(); at += kPiece)
-      MPI_Allreduce(MPI_IN_PLACE, values.data() + at, int(std::min(kPiece, values.size() - at)), MPI_DOUBLE, MPI_MAX,
-                    MPI_COMM_WORLD);
+      reduce(values.data() + at, int(std::min(kPiece, values.size() - at)), MPI_DOUBLE, MPI_MAX);
   }
   void broadcast(std::vector<uint8_t>& bytes) override { broadcastFrom(0, bytes); }
   std::vector<std::vector<uint8_t>> allGather(const std::vector<uint8_t>& bytes) override {
@@ -56,20 +67,18 @@ class MpiWorld final : public Collective {
   std::vector<std::vector<uint8_t>> gather(const std::vector<uint8_t>& bytes) override {
     if (m_rank != 0) {
       uint64_t size = bytes.size();
-      MPI_Send(&size, 1, MPI_UINT64_T, 0, 0, MPI_COMM_WORLD);
-      for (size_t at = 0; at < bytes.size(); at += kPiece)
-        MPI_Send(bytes.data() + at, int(std::min(kPiece, bytes.size() - at)), MPI_BYTE, 0, 0, MPI_COMM_WORLD);
+      send(&size, 1, MPI_UINT64_T);
+      for (size_t at = 0; at < bytes.size(); at += kPiece) send(bytes.data() + at, int(std::min(kPiece, bytes.size() - at)), MPI_BYTE);
       return {};
     }
     std::vector<std::vector<uint8_t>> out(static_cast<size_t>(m_size));
     out[0] = bytes;
     for (int r = 1; r < m_size; ++r) {
       uint64_t size = 0;
-      MPI_Recv(&size, 1, MPI_UINT64_T, r, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      receive(&size, 1, MPI_UINT64_T, r);
       out[size_t(r)].resize(size);
       for (size_t at = 0; at < size; at += kPiece)
-        MPI_Recv(out[size_t(r)].data() + at, int(std::min(kPiece, size_t(size) - at)), MPI_BYTE, r, 0, MPI_COMM_WORLD,
-                 MPI_STATUS_IGNORE);
+        receive(out[size_t(r)].data() + at, int(std::min(kPiece, size_t(size) - at)), MPI_BYTE, r);
     }
     return out;
   }
@@ -77,10 +86,29 @@ class MpiWorld final : public Collective {
  private:
   void broadcastFrom(int root, std::vector<uint8_t>& bytes) {
     uint64_t size = bytes.size();
-    MPI_Bcast(&size, 1, MPI_UINT64_T, root, MPI_COMM_WORLD);
+    bcast(&size, 1, MPI_UINT64_T, root);
     bytes.resize(size);
-    for (size_t at = 0; at < size; at += kPiece)
-      MPI_Bcast(bytes.data() + at, int(std::min(kPiece, size_t(size) - at)), MPI_BYTE, root, MPI_COMM_WORLD);
+    for (size_t at = 0; at < size; at += kPiece) bcast(bytes.data() + at, int(std::min(kPiece, size_t(size) - at)), MPI_BYTE, root);
+  }
+  static void reduce(void* data, int count, MPI_Datatype type, MPI_Op op) {
+    MPI_Request request;
+    MPI_Iallreduce(MPI_IN_PLACE, data, count, type, op, MPI_COMM_WORLD, &request);
+    finish(request);
+  }
+  static void bcast(void* data, int count, MPI_Datatype type, int root) {
+    MPI_Request request;
+    MPI_Ibcast(data, count, type, root, MPI_COMM_WORLD, &request);
+    finish(request);
+  }
+  static void send(const void* data, int count, MPI_Datatype type) {
+    MPI_Request request;
+    MPI_Isend(data, count, type, 0, 0, MPI_COMM_WORLD, &request);
+    finish(request);
+  }
+  static void receive(void* data, int count, MPI_Datatype type, int from) {
+    MPI_Request request;
+    MPI_Irecv(data, count, type, from, 0, MPI_COMM_WORLD, &request);
+    finish(request);
   }
 
   int m_rank = 0, m_size = 1, m_localRank = 0;
