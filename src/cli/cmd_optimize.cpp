@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "cli/common.h"
+#include "cli/mpi_world.h"
 #include "render/interrupt.h"
 #include "optimize/optimize.h"
 
@@ -59,7 +60,10 @@ int runOptimize(const std::vector<std::string>& argv) {
   options.memoryBudget = memoryBudget(args);
   if (auto n = args.count("--iterations", 1, 1u << 30)) options.iterations = *n;
   options.explain = args.has("--explain");
-  const bool quiet = args.has("--quiet");
+  // Under mpirun (docs/mpi.md) the processes share the targets; rank 0 reports and writes.
+  options.collective = world();
+  const bool root = !options.collective || options.collective->root();
+  const bool quiet = args.has("--quiet") || !root;
   options.progress = [quiet](const std::string& line) {
     if (!quiet) std::fprintf(stderr, "vktg: %s\n", line.c_str());
   };
@@ -73,8 +77,11 @@ int runOptimize(const std::vector<std::string>& argv) {
       std::fprintf(stderr, "\nvktg: results in %s\n", options.runDirectory.string().c_str());
     }
   } catch (const Interrupted& e) {
+    if (!root) throw;
     std::fprintf(stderr, "vktg: %s: checkpoint written; continue with `vktg optimize --resume %s`\n", e.what(),
                  options.runDirectory.string().c_str());
+    // Interrupted where its peers may be waiting for it (mid-render): they are ended (main.cpp).
+    if (options.collective && !options.collective->failureAgreed()) throw;
     return 128 + e.signal();
   }
   return finishWithValidationCheck(*context, 0);

@@ -104,6 +104,13 @@ void Collective::agree(const std::string& error) {
   }
 }
 
+int Collective::agreeOnInterrupt(int signal) {
+  std::vector<double> largest = {double(signal)};
+  max(largest);
+  if (largest[0] > 0) m_failureAgreed = true;
+  return int(largest[0]);
+}
+
 Share shareOf(size_t count, int rank, int size) {
   const size_t n = size_t(std::max(size, 1)), r = size_t(rank);
   const size_t base = count / n, extra = count % n;

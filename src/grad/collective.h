@@ -43,6 +43,9 @@ class Collective {
   // process then ends on its own, none waiting for another.
   void agree(const std::string& error);
   bool failureAgreed() const { return m_failureAgreed; }
+  // The interruption signal any process received (the largest number where several did), 0 when
+  // none did; a run that stops for it on every process counts as an agreed failure.
+  int agreeOnInterrupt(int signal);
 
  private:
   bool m_failureAgreed = false;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "grad/collective.h"
 #include "render/frame_uniforms.h"
 #include "render/planner.h"
 #include "scene/contacts.h"
@@ -415,6 +416,11 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     for (const AdjointView& view : views)
       for (const ImageLayer& layer : view.adjoint->layers)
         for (float a : layer.pixels) largestAdjoint = std::max(largestAdjoint, double(std::abs(a)));
+    if (options.collective) {
+      std::vector<double> largest = {largestAdjoint};
+      options.collective->max(largest);
+      largestAdjoint = largest[0];
+    }
     scale = std::ldexp(1.0, int(kTargetBits) - 20 - (largestAdjoint > 0 ? int(std::ceil(std::log2(largestAdjoint))) : 0));
   }
   const uint32_t targets = adjointTargets(*model);
@@ -494,6 +500,8 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
         }
       }
     }
+    // Spread over processes: every decision below is taken on the sum of all of them.
+    if (options.collective) sumStats(*options.collective, stats);
     result.stats = stats;
     if (stats.gradientOverflows > 0) {
       scale = std::ldexp(scale, -20);
@@ -501,6 +509,12 @@ LossGradient lossGradient(Renderer& renderer, DeviceScene& scene, const std::vec
     }
     if (renders.empty()) state.accumulator->zero();  // no term can contribute
     else state.accumulator->readBack();
+    if (options.collective) {
+      // Integer sums modulo 2^64, as the device's atomic adds wrap: the same bits whichever
+      // process added which samples.
+      const std::span<int64_t> sums = state.accumulator->hostAccumulators();
+      options.collective->sumWrapping(std::span<uint64_t>(reinterpret_cast<uint64_t*>(sums.data()), sums.size()));
+    }
     const double largest = state.accumulator->largestMagnitude();
     // All zero: either no sample depends on θ, or every contribution rounded to 0 at this scale.
     // Two much finer scales tell them apart; a gradient still zero then is one.

@@ -14,6 +14,8 @@
 
 namespace vktg {
 
+class Collective;
+
 enum class AntitheticMode { Auto, On, Off };
 
 struct GradientOptions {
@@ -36,6 +38,10 @@ struct GradientOptions {
   // Loss gradients: views that differ only in camera pose, point lights and seed render together,
   // a render per term for all of them (false: a render per term and view; the same gradient).
   bool batchViews = true;
+  // Loss gradients spread over processes (grad/collective.h): the views are this process's share,
+  // and its accumulators, statistics and scale decisions are those of every process's sum, so each
+  // gets the gradient of all the views, the bits one process would get. Null: one process.
+  Collective* collective = nullptr;
 };
 
 // What the gradient planner runs and why.

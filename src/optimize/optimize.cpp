@@ -131,7 +131,8 @@ std::vector<std::string> logColumns(const Experiment& e) {
 // targets/ so that a resumed run reads them back instead of rendering again.
 void synthesizeTargets(VulkanContext& context, Renderer& renderer, const Experiment& e, const ParameterModel& model,
                        const fs::path& run, uint64_t memoryBudget,
-                       const std::function<void(const std::string&)>& progress, std::vector<ImageSet>& images) {
+                       const std::function<void(const std::string&)>& progress, Collective* collective,
+                       std::vector<ImageSet>& images) {
   std::vector<double> truth;
   for (const ExperimentParameter& p : e.parameters) truth.push_back(p.truth.value_or(0.0));
   // Targets rendered in an earlier run of this directory are read back; the others are rendered at
@@ -161,16 +162,33 @@ void synthesizeTargets(VulkanContext& context, Renderer& renderer, const Experim
     progress("synthesising " + std::to_string(missing.size()) + " target" + (missing.size() > 1 ? "s" : "") +
              " at the truth: " + names);
   }
-  DeviceScene truthScene(context, model, truth, truth);
-  RenderOptions options;
-  options.memoryBudget = memoryBudget;
-  std::vector<RenderPlan> plans;
-  std::vector<ImageSet> rendered = renderViewImages(renderer, truthScene, views, options, plans);
+  // Spread over processes, each renders its share and all get every image (each the bits of its
+  // own whichever views it is rendered with); rank 0 writes them.
+  const Share share = shareOf(views.size(), collective);
+  std::vector<ImageSet> rendered;
+  std::string failure;
+  try {
+    if (!share.empty()) {
+      DeviceScene truthScene(context, model, truth, truth);
+      RenderOptions options;
+      options.memoryBudget = memoryBudget;
+      std::vector<RenderPlan> plans;
+      const std::vector<AdjointView> mine(views.begin() + ptrdiff_t(share.begin), views.begin() + ptrdiff_t(share.end));
+      rendered = renderViewImages(renderer, truthScene, mine, options, plans);
+    }
+  } catch (const Error& error) {
+    if (!collective) throw;
+    failure = error.what();
+  }
+  if (collective) {
+    collective->agree(failure);
+    rendered = allGatherImages(*collective, rendered);
+  }
   for (size_t k = 0; k < missing.size(); ++k) {
     const size_t t = missing[k];
     images[t] = std::move(rendered[k]);
     checkTargetImageFinite(e, t, images[t]);
-    writeExr(run / "targets" / (e.targets[t].name + ".exr"), images[t]);
+    if (!collective || collective->root()) writeExr(run / "targets" / (e.targets[t].name + ".exr"), images[t]);
   }
 }
 
@@ -197,6 +215,8 @@ struct Optimization::Impl {
 
   VulkanContext& context;
   OptimizeOptions options;
+  Collective* collective;              // null: one process
+  bool root;                           // the process that writes the run directory
   fs::path run;
   Experiment e;
   RunInfo info;
@@ -235,6 +255,24 @@ struct Optimization::Impl {
     if (e.budget.sppBoundaryAuto && info.pilotSppBoundary > 0) gradient.sppBoundary = info.pilotSppBoundary;
     if (e.budget.sppBoundaryCameraAuto && info.pilotSppBoundaryCamera > 0) gradient.sppBoundaryCamera = info.pilotSppBoundaryCamera;
   }
+  // The interruption check between iterations: spread over processes, all stop where any was asked to.
+  void stopIfInterrupted() const {
+    if (!collective) return throwIfInterrupted();
+    if (const int signal = collective->agreeOnInterrupt(interruptSignal())) throw Interrupted(signal);
+  }
+  // Runs `part` on every process and compares how it went: spread over processes, a failure in any
+  // is an Error in all (Collective::agree), so none waits for one that gave up.
+  template <class Part>
+  void together(Part&& part) {
+    if (!collective) return part();
+    std::string failure;
+    try {
+      part();
+    } catch (const Error& error) {
+      failure = error.what();
+    }
+    collective->agree(failure);
+  }
   void writeState(uint64_t completed, double seconds) const {
     Checkpoint c;
     c.iteration = completed;
@@ -253,10 +291,12 @@ struct Optimization::Impl {
   }
 };
 
-Optimization::Impl::Impl(VulkanContext& c, const OptimizeOptions& o) : context(c), options(o), run(o.runDirectory) {
+Optimization::Impl::Impl(VulkanContext& c, const OptimizeOptions& o)
+    : context(c), options(o), collective(o.collective), root(!o.collective || o.collective->root()), run(o.runDirectory) {
   if (run.empty()) throw Error("--out: a run directory is required");
   // Everything that can be wrong with the input is checked before the run directory is touched.
   Checkpoint checkpoint;
+  together([&] {
   if (options.resume) {
     checkResumableRun(run);
     info = readRunInfo(run);
@@ -301,7 +341,10 @@ Optimization::Impl::Impl(VulkanContext& c, const OptimizeOptions& o) : context(c
       fail(e.source.string(), "targets[" + std::to_string(e.targets[t].entry) + "]", tooLarge.what());
     }
   }
-  if (!options.resume) {
+  });
+  // Rank 0 prepares the run directory; the others read nothing of it until it is done.
+  together([&] {
+  if (!options.resume && root) {
     prepareRunDirectory(run, options.force);
     writeFileAtomic(run / "experiment.json", e.text);
     writeRunInfo(run, info);
@@ -316,10 +359,11 @@ Optimization::Impl::Impl(VulkanContext& c, const OptimizeOptions& o) : context(c
     start.bvhTheta = start.theta;
     writeCheckpoint(run / "checkpoint.bin", start);
   }
+  });
 
   model.emplace(e.scene, selectedIndices(e));
   renderer.emplace(context);
-  synthesizeTargets(context, *renderer, e, *model, run, info.memoryBudget, options.progress, targets);
+  synthesizeTargets(context, *renderer, e, *model, run, info.memoryBudget, options.progress, collective, targets);
   for (size_t t = 0; t < e.targets.size(); ++t) {
     if (!e.targets[t].synthesize) continue;
     // A synthesised target read back on --resume is a file like any other: check it.
@@ -343,8 +387,9 @@ Optimization::Impl::Impl(VulkanContext& c, const OptimizeOptions& o) : context(c
   scene.emplace(context, *model, theta, bvhTheta);
   // A run stopped before its first row may have no log yet; later ones must have theirs.
   const bool continueLog = options.resume && (iteration > 0 || fs::exists(run / "log.csv"));
-  log.emplace(run / "log.csv", logColumns(e), continueLog, iteration);
+  if (root) log.emplace(run / "log.csv", logColumns(e), continueLog, iteration);
   gradient = gradientOptions(e, info.memoryBudget);
+  gradient.collective = collective;
   termPilot =
       (e.budget.sppEdgeAuto || e.budget.sppBoundaryAuto || e.budget.sppBoundaryCameraAuto) && !e.budget.finiteDifferences;
   if (termPilot && info.pilotDone) applyPilot();
@@ -354,7 +399,7 @@ Optimization::Impl::Impl(VulkanContext& c, const OptimizeOptions& o) : context(c
   initialImages.resize(e.targets.size());
   for (const TargetEntry& entry : entries) {
     const fs::path saved = initialImagePath(entry);
-    if (!fs::exists(saved)) continue;
+    if (!root || !fs::exists(saved)) continue;  // (figures are rank 0's)
     const ImageSet whole = readExr(saved);
     if (!entry.scan) {
       initialImages[entry.targets.front()] = whole;
@@ -385,9 +430,12 @@ Evaluation Optimization::evaluate() {
   DeviceScene& scene = *m.scene;
   Renderer& renderer = *m.renderer;
   const uint64_t i = m.iteration;
-  throwIfInterrupted();
+  m.stopIfInterrupted();
   const auto start = std::chrono::steady_clock::now();
   double pilotSeconds = 0;
+  // This process's targets (all of them for one process): it renders those, and the losses,
+  // gradient and images come together below.
+  const Share mine = shareOf(e.targets.size(), m.collective);
   Evaluation out;
   out.iteration = i;
   out.theta = m.theta;
@@ -395,11 +443,11 @@ Evaluation Optimization::evaluate() {
   scene.update(m.theta, m.model->movesVertices() && i % kBvhQualityCheckInterval == 0);
   const double shift = gateShift(e, m.theta);
   // The loss and its adjoint images, from renders with their own random numbers.
-  std::vector<double>& losses = out.targetLosses;
-  losses.assign(e.targets.size(), 0.0);
-  std::vector<ImageSet> adjointImages(e.targets.size());
+  // Indices into the vectors below are k = t - mine.begin.
+  std::vector<double> losses(mine.size(), 0.0);
+  std::vector<ImageSet> adjointImages(mine.size());
   std::vector<AdjointView> views, primalViews;
-  for (size_t t = 0; t < e.targets.size(); ++t) {
+  for (size_t t = mine.begin; t < mine.end; ++t) {
     RenderSetup setup = m.setups[t].setup;
     setup.gate = setup.gate.shifted(shift);
     setup.settings.spp = e.budget.sppPrimal;
@@ -408,11 +456,12 @@ Evaluation Optimization::evaluate() {
   }
   std::vector<RenderPlan> plans;
   std::vector<ImageSet> primals = renderViewImages(renderer, scene, primalViews, m.primalOptions, plans);
-  for (size_t t = 0; t < e.targets.size(); ++t) {
+  for (size_t k = 0; k < mine.size(); ++k) {
+    const size_t t = mine.begin + k;
     if (m.options.explain && !m.explained)
-      m.say("render plan (target " + e.targets[t].name + "):\n" + explainPlan(plans[t]));
-    losses[t] = imageLoss(e.loss, primals[t], m.targets[t], e.targets[t].weight, &adjointImages[t]);
-    RenderSetup setup = primalViews[t].setup;
+      m.say("render plan (target " + e.targets[t].name + "):\n" + explainPlan(plans[k]));
+    losses[k] = imageLoss(e.loss, primals[k], m.targets[t], e.targets[t].weight, &adjointImages[k]);
+    RenderSetup setup = primalViews[k].setup;
     setup.settings.spp = e.budget.sppInterior;
     setup.settings.seed = seedFor(e.seed, i, t, 1);
     views.push_back({setup, m.setups[t].lights, nullptr});
@@ -426,27 +475,35 @@ Evaluation Optimization::evaluate() {
     chain->passes = e.budget.interiorPasses;
     chain->images = primals;
     chain->imageSpp = e.budget.sppPrimal;
-    chain->adjointOf = [&](size_t t, const ImageSet& image) {
+    chain->adjointOf = [&](size_t k, const ImageSet& image) {
+      const size_t t = mine.begin + k;
       ImageSet adjoint;
       imageLoss(e.loss, image, m.targets[t], e.targets[t].weight, &adjoint);
       return adjoint;
     };
-    chain->seedOf = [&](size_t t, uint32_t pass) { return seedFor(e.seed, i, t, pass == 0 ? 1 : pass * kChainedPassUse); };
+    chain->seedOf = [&](size_t k, uint32_t pass) {
+      return seedFor(e.seed, i, mine.begin + k, pass == 0 ? 1 : pass * kChainedPassUse);
+    };
   }
   LossGradient& g = out.gradient;
   if (e.budget.finiteDifferences) {
     // The loss at θ' rendered with the gradient's random numbers (use 1): both sides of a central
     // difference share them, so that their noise cancels as far as it can (common random numbers).
     auto lossAt = [&](const std::vector<double>& at) {
-      throwIfInterrupted();
+      m.stopIfInterrupted();
       scene.update(at, false);
-      double total = 0;
-      for (size_t t = 0; t < e.targets.size(); ++t) {
-        RenderSetup setup = views[t].setup;
+      std::vector<double> targetLosses;
+      for (size_t k = 0; k < mine.size(); ++k) {
+        const size_t t = mine.begin + k;
+        RenderSetup setup = views[k].setup;
         setup.gate = m.setups[t].setup.gate.shifted(gateShift(e, at));
         scene.placePointLights(m.setups[t].lights);
-        total += imageLoss(e.loss, renderer.render(scene, setup, m.primalOptions).mean, m.targets[t], e.targets[t].weight);
+        targetLosses.push_back(imageLoss(e.loss, renderer.render(scene, setup, m.primalOptions).mean, m.targets[t], e.targets[t].weight));
       }
+      // Summed in target order, whichever process rendered which.
+      if (m.collective) targetLosses = allGatherDoubles(*m.collective, targetLosses);
+      double total = 0;
+      for (double l : targetLosses) total += l;
       return total;
     };
     g.theta = centralDifferences(lossAt, m.theta, e.budget.finiteDifferenceStep);
@@ -465,13 +522,25 @@ Evaluation Optimization::evaluate() {
       m.say("term pilot: " + std::to_string(kTermPilotRounds + 1) + " gradients of each term");
       const auto pilotStart = std::chrono::steady_clock::now();
       AdjointState pilotState;
-      const TermAllocation allocation = runTermPilot(renderer, scene, views, m.gradient, pilotState,
-                                                     [&](uint32_t round, size_t t) { return seedFor(e.seed, i, t, 2 + round); });
+      // The pilot's choice rests on timings: spread over processes, rank 0 pilots on its own
+      // targets (a gradient of its own, not summed with the others') and its choice holds for all.
+      TermAllocation allocation;
+      if (m.root) {
+        GradientOptions alone = m.gradient;
+        alone.collective = nullptr;
+        allocation = runTermPilot(renderer, scene, views, alone, pilotState,
+                                  [&](uint32_t round, size_t k) { return seedFor(e.seed, i, mine.begin + k, 2 + round); });
+      }
+      if (m.collective) {
+        allocation.sppEdge = broadcastDouble(*m.collective, allocation.sppEdge);
+        allocation.sppBoundary = broadcastDouble(*m.collective, allocation.sppBoundary);
+        allocation.sppBoundaryCamera = broadcastDouble(*m.collective, allocation.sppBoundaryCamera);
+      }
       m.info.pilotSppEdge = allocation.sppEdge;
       m.info.pilotSppBoundary = allocation.sppBoundary;
       m.info.pilotSppBoundaryCamera = allocation.sppBoundaryCamera;
       m.info.pilotDone = true;
-      writeRunInfo(m.run, m.info);
+      if (m.root) writeRunInfo(m.run, m.info);
       m.applyPilot();
       // The iteration's time (log, ETA) is its own: the pilot runs once.
       pilotSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pilotStart).count();
@@ -489,9 +558,13 @@ Evaluation Optimization::evaluate() {
   // and the loss read from them.
   out.images = chain ? std::move(g.images) : std::move(primals);
   if (chain)
-    for (size_t t = 0; t < e.targets.size(); ++t) losses[t] = imageLoss(e.loss, out.images[t], m.targets[t], e.targets[t].weight);
+    for (size_t k = 0; k < mine.size(); ++k)
+      losses[k] = imageLoss(e.loss, out.images[k], m.targets[mine.begin + k], e.targets[mine.begin + k].weight);
+  // Spread over processes: every process gets every target's loss, rank 0 every image.
+  out.targetLosses = m.collective ? allGatherDoubles(*m.collective, losses) : std::move(losses);
+  if (m.collective) out.images = gatherImages(*m.collective, out.images);
   out.loss = 0;
-  for (double l : losses) out.loss += l;
+  for (double l : out.targetLosses) out.loss += l;
   if (m.options.explain && !m.explained) {
     std::string plan = "gradient plan:\n";
     for (const std::string& r : g.plan.reasons) plan += "  - " + r + "\n";
@@ -523,13 +596,13 @@ void Optimization::step(const Evaluation& evaluation) {
     throw Error("internal: an optimisation steps with the evaluation of its current iteration and θ");
   const auto start = std::chrono::steady_clock::now();
   const std::vector<double>& losses = evaluation.targetLosses;
-  const std::vector<ImageSet>& estimates = evaluation.images;
-  if (i == 0) {
+  const std::vector<ImageSet>& estimates = evaluation.images;  // rank 0's alone when spread over processes
+  if (i == 0 && m.root) {
     for (size_t t = 0; t < e.targets.size(); ++t) m.initialImages[t] = estimates[t];
     for (const TargetEntry& entry : m.entries)
       writeExr(m.initialImagePath(entry), entry.scan ? joinScanImages(e, entry, estimates) : estimates[entry.targets.front()]);
   }
-  if (i % e.imagesEvery == 0 || i + 1 == e.stop.iterations) {
+  if (m.root && (i % e.imagesEvery == 0 || i + 1 == e.stop.iterations)) {
     std::vector<TargetImages> figures;
     for (size_t t = 0; t < e.targets.size(); ++t)
       figures.push_back({e.targets[t].name, m.setups[t].setup.gate, &m.targets[t], &m.initialImages[t], &estimates[t]});
@@ -556,7 +629,7 @@ void Optimization::step(const Evaluation& evaluation) {
   row.push_back(norm);
   if (error) row.push_back(*error);
   row.push_back(seconds);
-  m.log->append(row);
+  if (m.root) m.log->append(row);
   m.lastLoss = loss;
   m.lastError = error;
   if (m.options.progress) {
@@ -576,13 +649,18 @@ void Optimization::step(const Evaluation& evaluation) {
   if (e.stop.lossBelow && loss < *e.stop.lossBelow) stop = "the loss fell below stop.loss_below";
   if (e.stop.parameterErrorBelow && error && *error < *e.stop.parameterErrorBelow)
     stop = "the parameter error fell below stop.parameter_error_below";
-  if (e.stop.seconds && m.elapsed() > *e.stop.seconds) stop = "the run reached stop.seconds";
+  if (e.stop.seconds) {
+    // Processes spread over a run stop together: by rank 0's clock.
+    const double elapsed = m.collective ? broadcastDouble(*m.collective, m.elapsed()) : m.elapsed();
+    if (elapsed > *e.stop.seconds) stop = "the run reached stop.seconds";
+  }
   if (m.iteration == e.stop.iterations && stop.empty()) stop = kReachedIterations;
   m.stopReason = stop;
   if (m.iteration % e.checkpointEvery == 0 || !stop.empty()) checkpoint();
 }
 
 void Optimization::checkpoint() {
+  if (!m_impl->root) return;  // rank 0 writes the run directory
   // θ and the optimiser state are those after the last completed iteration: a valid checkpoint.
   m_impl->writeState(m_impl->iteration, m_impl->elapsed());
   m_impl->writeFigures();
@@ -600,6 +678,7 @@ OptimizeSummary Optimization::finish() {
   summary.parameterError = m.lastError;
   summary.stopReason = m.stopReason;
   summary.seconds = m.elapsed();
+  if (!m.root) return summary;
   writeParameters(m.run / "parameters.json", m.e, m.theta);
   writeOptimizedScene(m.run / "scene.json", m.e, m.theta);
   return summary;

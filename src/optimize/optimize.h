@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "grad/collective.h"
 #include "grad/gradient.h"
 #include "vk/vk_context.h"
 #include "vktg/image_io.h"
@@ -30,6 +31,9 @@ struct OptimizeOptions {
   std::optional<uint32_t> iterations;  // overrides the experiment's stop.iterations
   std::function<void(const std::string&)> progress;  // one line per iteration (and a few more)
   bool explain = false;                // print the render and gradient plans once
+  // The processes the run is spread over (`mpirun`, docs/mpi.md): each renders its share of the
+  // targets, all step identically, rank 0 alone writes the run directory. Null: one process.
+  Collective* collective = nullptr;
 };
 
 struct OptimizeSummary {

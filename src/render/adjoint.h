@@ -42,6 +42,8 @@ class GradientAccumulator {
   // vertices, whose accumulators ParameterModel::chainRule reads as they are (vertexAccumulators).
   SceneGradient readScalars(const Scene& scene, double scale) const;
   std::span<const int64_t> vertexAccumulators() const;
+  // The host's copy of every accumulator, to add other processes' sums into (grad/collective.h).
+  std::span<int64_t> hostAccumulators() { return m_host; }
   // The largest accumulator magnitude, in units of the accumulator (to choose the next scale).
   double largestMagnitude() const;
   Buffer& buffer() { return m_buffer; }
