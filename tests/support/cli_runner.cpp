@@ -63,9 +63,14 @@ std::string CliResult::describe() const {
 }
 
 CliResult runVktg(const std::vector<std::string>& args, const CliOptions& options) {
-  applyTestEnvironment();  // the child inherits the test driver selection
   std::vector<std::string> argv = {VKTG_BINARY};
   argv.insert(argv.end(), args.begin(), args.end());
+  return runProgram(argv, options);
+}
+
+CliResult runProgram(const std::vector<std::string>& program, const CliOptions& options) {
+  applyTestEnvironment();  // the child inherits the test driver selection
+  std::vector<std::string> argv = program;
   std::map<std::string, std::string> overrides = {{"VKTG_VALIDATION", "1"}};
   for (const auto& [name, value] : options.env) overrides[name] = value;
   std::vector<std::string> env = childEnvironment(overrides);

@@ -41,6 +41,8 @@ struct CliOptions {
 // message makes vktg exit 3) unless `options.env` says otherwise; the rest of the environment,
 // including ctest's VK_DRIVER_FILES, is inherited.
 CliResult runVktg(const std::vector<std::string>& args, const CliOptions& options = {});
+// The same for another program (argv[0], a path) that runs vktg, as mpirun does.
+CliResult runProgram(const std::vector<std::string>& argv, const CliOptions& options = {});
 
 // Lines of `text` that start with `prefix`.
 std::vector<std::string> linesStartingWith(const std::string& text, const std::string& prefix);

@@ -6,12 +6,15 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <ctime>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 
 #include "cli/mpi_world.h"
+#include "render/interrupt.h"
 #include "vktg/error.h"
 
 namespace vktg::cli {
@@ -23,10 +26,20 @@ constexpr size_t kPiece = size_t(1) << 30;
 // Waits for an exchange without spinning: MPI's blocking calls poll at full speed, and a process
 // that waits for its peers would take the cores they render on (processes sharing lavapipe, or
 // more processes than cores). A tenth of a millisecond between polls costs nothing next to a render.
+// Interrupted while it waits, a process gives its peers a while to reach the exchange (they were
+// most likely interrupted too, and the run stops where all agree); a peer still missing then will
+// not come (it stopped mid-render), and this process stops too (main.cpp then ends them all).
 void finish(MPI_Request& request) {
+  constexpr auto kGrace = std::chrono::seconds(2);
+  std::optional<std::chrono::steady_clock::time_point> interruptedAt;
   for (int done = 0;;) {
     MPI_Test(&request, &done, MPI_STATUS_IGNORE);
     if (done) return;
+    if (interruptRequested()) {
+      const auto now = std::chrono::steady_clock::now();
+      if (!interruptedAt) interruptedAt = now;
+      if (now - *interruptedAt > kGrace) throwIfInterrupted();
+    }
     const timespec pause = {0, 100000};
     nanosleep(&pause, nullptr);
   }
