@@ -15,6 +15,8 @@
 #include "bench/bench_trace.h"
 #include "bench/bench_grad.h"
 #include "bench/bench_render.h"
+#include "bench/bench_scale.h"
+#include "cli/mpi_world.h"
 
 namespace vktg::cli {
 
@@ -22,7 +24,7 @@ const CommandSpec& benchSpec() {
   static const CommandSpec spec = [] {
     CommandSpec s;
     s.name = "bench";
-    s.usage = "bench render|grad|optimize|nee|pilot|trace|bvh [options]";
+    s.usage = "bench render|grad|optimize|nee|pilot|trace|bvh|scale [options]";
     s.description =
         "Measures accuracy versus time: relMSE against an exact (confocal plane) or cached high-sample\n"
         "(Cornell box) reference for gaussian gates with sigma/mu in {1e-1, 1e-2, 1e-3} and a box gate,\n"
@@ -41,7 +43,10 @@ const CommandSpec& benchSpec() {
         "second of the BVH traversal, closest and any hit, primary and incoherent rays, on SCENE or on the default\n"
         "room and rooms with heightfields of --sizes, beside Embree on the host's cores when built with it.\n"
         "`bench bvh`: the median time to build the BVH of 10^4, 10^5 and 10^6 random triangles, and the silhouette-edge\n"
-        "list of heightfields of as many vertices (CPU only; prints tables).";
+        "list of heightfields of as many vertices (CPU only; prints tables). `bench scale [EXPERIMENT]`, run under\n"
+        "`mpirun -np N` for each N (or alone for 1): an optimisation's time per iteration and its all-reduce's share,\n"
+        "one row of scale.csv per N, and table.md with a model of strong and weak scaling to 8 GPUs and 64 nodes\n"
+        "(default experiment: experiments/confocal_scan/coarse_bins.experiment.json).";
     s.options = {{"--out", "DIR", "run directory (default runs/bench-render or runs/bench-grad)"},
                  {"--runs", "N", "repetitions per point; medians are reported (default 3)"},
                  {"--steps", "N", "spp doublings per curve (default 5)"},
@@ -55,7 +60,8 @@ const CommandSpec& benchSpec() {
                  {"--interior-passes", "M",
                   "optimize: also time an iteration whose render takes 1/M of the samples and whose interior term runs in M "
                   "chained passes (default 4; 1 leaves it out; M must divide the samples per pixel)"},
-                 {"--no-embree", "", "trace: vktg only, even when built with Embree"}};
+                 {"--no-embree", "", "trace: vktg only, even when built with Embree"},
+                 {"--iterations", "N", "scale: iterations timed after the first (default 4)"}};
     for (auto& o : deviceOptions()) s.options.push_back(o);
     s.examples = "  vktg bench render --out runs/bench-render\n  vktg bench render --scale 0.25 --runs 1 --steps 3\n";
     return s;
@@ -78,6 +84,31 @@ std::vector<uint32_t> parseSizes(const std::string& text) {
   return sizes;
 }
 
+// `vktg bench scale` under mpirun: every process runs the optimisation, rank 0 reports.
+int runBenchScale(const ParsedArgs& args, const std::vector<std::string>& argv) {
+  if (args.positionals.size() > 2) throw UsageError("`vktg bench scale` takes one experiment file");
+  Collective* const collective = world();
+  const bool root = !collective || collective->root();
+  BenchScaleOptions bench;
+  bench.experiment = args.positionals.size() > 1
+                         ? std::filesystem::path(args.positionals[1])
+                         : std::filesystem::path("experiments") / "confocal_scan" / "coarse_bins.experiment.json";
+  bench.outDir = args.get("--out").value_or("runs/bench-scale");
+  bench.iterations = args.count("--iterations", 1, 1000).value_or(bench.iterations);
+  bench.memoryBudget = memoryBudget(args);
+  bench.collective = collective;
+  if (root) std::filesystem::create_directories(bench.outDir);
+  auto context = makeContext(args);
+  const BenchScaleRow row = benchScale(*context, bench);
+  if (root) {
+    std::string command = collective ? "mpirun -np " + std::to_string(collective->size()) + " vktg bench" : "vktg bench";
+    for (const auto& a : argv) command += " " + a;
+    writeBenchScaleReport(row, bench, command);
+    if (!args.has("--quiet")) std::fprintf(stderr, "bench: wrote %s/{scale.csv,table.md}\n", bench.outDir.string().c_str());
+  }
+  return finishWithValidationCheck(*context, 0);
+}
+
 int runBench(const std::vector<std::string>& argv) {
   ParsedArgs args = parseArgs(benchSpec(), argv);
   if (args.has("--help")) {
@@ -85,9 +116,10 @@ int runBench(const std::vector<std::string>& argv) {
     return 0;
   }
   const std::string which = args.positionals.empty() ? "" : args.positionals[0];
-  const std::vector<std::string> benchmarks = {"render", "grad", "optimize", "nee", "pilot", "trace", "bvh"};
+  const std::vector<std::string> benchmarks = {"render", "grad", "optimize", "nee", "pilot", "trace", "bvh", "scale"};
   if (std::find(benchmarks.begin(), benchmarks.end(), which) == benchmarks.end())
-    throw UsageError("which benchmark? `vktg bench render`, `grad`, `optimize`, `nee`, `pilot`, `trace` or `bvh`");
+    throw UsageError("which benchmark? `vktg bench render`, `grad`, `optimize`, `nee`, `pilot`, `trace`, `bvh` or `scale`");
+  if (which == "scale") return runBenchScale(args, argv);
   if (which != "trace" && args.positionals.size() > 1)
     throw UsageError("`vktg bench " + which + "` takes no scene file");
   if (which == "bvh") {

@@ -562,7 +562,12 @@ Evaluation Optimization::evaluate() {
       losses[k] = imageLoss(e.loss, out.images[k], m.targets[mine.begin + k], e.targets[mine.begin + k].weight);
   // Spread over processes: every process gets every target's loss, rank 0 every image.
   out.targetLosses = m.collective ? allGatherDoubles(*m.collective, losses) : std::move(losses);
-  if (m.collective) out.images = gatherImages(*m.collective, out.images);
+  // The images go to rank 0 only for the iterations whose figures step writes: a scan's are as
+  // large as its capture, and would otherwise cross the network every iteration.
+  if (m.collective) {
+    const bool figures = i == 0 || i % e.imagesEvery == 0 || i + 1 == e.stop.iterations;
+    out.images = figures ? gatherImages(*m.collective, out.images) : std::vector<ImageSet>{};
+  }
   out.loss = 0;
   for (double l : out.targetLosses) out.loss += l;
   if (m.options.explain && !m.explained) {

@@ -50,7 +50,8 @@ struct Evaluation {
   std::vector<double> theta;           // where
   std::vector<double> targetLosses;    // per target (the experiment's targets, a scan's points apart)
   double loss = 0;                     // the image loss: their sum (regularisers come in step)
-  std::vector<ImageSet> images;        // per target: the image the loss was read from
+  std::vector<ImageSet> images;        // per target: the image the loss was read from (spread over
+                                       // processes: on rank 0, and only where step writes figures)
   LossGradient gradient;               // d loss / d θ of the image loss, with its plan and statistics
   double seconds = 0;                  // wall time, the term pilot's excluded (it runs once)
   // The gradient accumulators' scale after this gradient (it adapts to the gradient's size): the
