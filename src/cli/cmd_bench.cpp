@@ -120,6 +120,8 @@ int runBench(const std::vector<std::string>& argv) {
   if (std::find(benchmarks.begin(), benchmarks.end(), which) == benchmarks.end())
     throw UsageError("which benchmark? `vktg bench render`, `grad`, `optimize`, `nee`, `pilot`, `trace`, `bvh` or `scale`");
   if (which == "scale") return runBenchScale(args, argv);
+  if (world() && world()->size() > 1)
+    throw UsageError("`vktg bench " + which + "` runs as one process; under mpirun only `vktg bench scale` (docs/mpi.md)");
   if (which != "trace" && args.positionals.size() > 1)
     throw UsageError("`vktg bench " + which + "` takes no scene file");
   if (which == "bvh") {

@@ -1,7 +1,8 @@
 // vktg: a differentiable time-gated renderer. Dispatches to the subcommands and turns every
 // error into one `vktg: error: ...` line and a non-zero exit status. SIGINT and SIGTERM stop a
 // run at the next safe point (host/interrupt.h) with nothing written; the exit status is then
-// 128 + the signal number, as if the signal had ended the process.
+// 128 + the signal number, as if the signal had ended the process. Under mpirun (docs/mpi.md) the
+// processes join one world first; a process that fails on its own ends them all.
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -21,14 +22,15 @@ struct Subcommand {
   const char* name;
   int (*run)(const std::vector<std::string>&);
   const char* summary;
+  bool splitsOverProcesses = false;  // under mpirun (docs/mpi.md)
 };
 
 const Subcommand kSubcommands[] = {
-    {"render", vktg::cli::runRender, "render a time-gated image or transient stack"},
-    {"grad", vktg::cli::runGrad, "derivative images with respect to scene parameters"},
+    {"render", vktg::cli::runRender, "render a time-gated image or transient stack", true},
+    {"grad", vktg::cli::runGrad, "derivative images with respect to scene parameters", true},
     {"fd", vktg::cli::runFd, "finite-difference derivative (the reference for grad)"},
-    {"optimize", vktg::cli::runOptimize, "recover scene parameters from time-of-flight images"},
-    {"bench", vktg::cli::runBench, "accuracy versus time and throughput benchmarks"},
+    {"optimize", vktg::cli::runOptimize, "recover scene parameters from time-of-flight images", true},
+    {"bench", vktg::cli::runBench, "accuracy versus time and throughput benchmarks", true},  // scale alone (cmd_bench.cpp)
     {"inspect", vktg::cli::runInspect, "sizes, layers and statistics of an EXR output"},
     {"info", vktg::cli::runInfo, "Vulkan devices, features and limits"},
 };
@@ -97,6 +99,16 @@ int main(int argc, char** argv) {
     } catch (const vktg::Error& e) {
       std::fprintf(stderr, "vktg: error: %s\n", e.what());
       return 1;
+    }
+    // Commands that do not split their work would repeat it in every process, all writing the
+    // same files.
+    const vktg::Collective* joined = vktg::cli::world();
+    if (joined && joined->size() > 1 && !c.splitsOverProcesses) {
+      if (joined->root())
+        std::fprintf(stderr, "vktg: error: `vktg %s` runs as one process; under mpirun only render, grad, optimize and "
+                             "bench scale spread over processes (docs/mpi.md)\n", c.name);
+      vktg::cli::leaveWorld();
+      return 2;
     }
     bool failed = false;
     const int status = runSubcommand(c, args, failed);
