@@ -1,8 +1,9 @@
 // `mpirun -np N vktg render|grad|optimize` (docs/mpi.md) on lavapipe, the processes sharing it: the
 // outputs are the bytes one process without mpirun writes, for N = 2 and 3 (five scan points split
 // 3 + 2 and 2 + 2 + 1); an optimisation stopped under one N and resumed under another ends where the
-// uninterrupted one-process run does; a process that fails or is killed ends every process with an
-// error, within seconds, instead of leaving its peers waiting.
+// uninterrupted one-process run does, and one stopped by Ctrl-C on mpirun leaves a checkpoint that
+// resumes; a process that fails or is killed ends every process with an error, within seconds,
+// instead of leaving its peers waiting.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,7 +38,8 @@ const std::map<std::string, std::string> kWithoutValidation = {{"VKTG_VALIDATION
 
 // mpirun -np N [WRAPPER...] vktg ARGS, in `dir` (as root, several processes on two cores).
 CliResult runMpi(int processes, const std::vector<std::string>& args, const TempDir& dir,
-                 const std::vector<std::string>& wrapper = {}, double timeoutSeconds = 180) {
+                 const std::vector<std::string>& wrapper = {}, double timeoutSeconds = 180,
+                 const std::string& interruptWhen = "") {
   std::vector<std::string> argv = {VKTG_MPIEXEC, "--oversubscribe", "-np", std::to_string(processes)};
   argv.insert(argv.end(), wrapper.begin(), wrapper.end());
   argv.push_back(VKTG_BINARY);
@@ -48,6 +50,7 @@ CliResult runMpi(int processes, const std::vector<std::string>& args, const Temp
   options.env["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] = "1";
   options.cwd = dir.path();
   options.timeoutSeconds = timeoutSeconds;
+  options.signalWhen = interruptWhen;  // then SIGINT to mpirun, as Ctrl-C
   return runProgram(argv, options);
 }
 
@@ -166,6 +169,23 @@ TEST(MpiOptimize, ThreeProcessesThenTwoOnResumingEndWhereOneProcessDoes) {
   EXPECT_EQ(readCheckpoint(dir / "resumed" / "checkpoint.bin").iteration, 1u);
   expectSuccess(runMpi(2, {"optimize", "--resume", (dir / "resumed").string()}, dir));
   expectSameRun(dir / "resumed", dir / "one");
+}
+
+TEST(MpiOptimize, CtrlCOnMpirunLeavesACheckpointThatResumes) {
+  TempDir dir;
+  const fs::path experiment = writeExperiment(dir), run = dir / "run";
+  const CliResult r = runMpi(2, {"optimize", experiment.string(), "--out", run.string(), "--iterations", "100000"}, dir, {},
+                             90, "iteration 1/");
+  ASSERT_FALSE(r.timedOut) << r.describe();
+  ASSERT_TRUE(r.exited) << r.describe();
+  EXPECT_NE(r.exitCode, 0) << r.describe();
+  EXPECT_NE(r.err.find("checkpoint written"), std::string::npos) << r.describe();
+  const Checkpoint stopped = readCheckpoint(run / "checkpoint.bin");
+  ASSERT_GE(stopped.iteration, 1u);
+  // One more iteration, by one process.
+  runAlone({"optimize", "--resume", run.string(), "--iterations", std::to_string(stopped.iteration + 1)}, dir);
+  EXPECT_EQ(readCheckpoint(run / "checkpoint.bin").iteration, stopped.iteration + 1);
+  EXPECT_EQ(logWithoutSeconds(run / "log.csv").size(), stopped.iteration + 2) << "a header and a row per iteration";
 }
 
 // A shell script run by every process in front of vktg: `rank1` is what rank 1 runs first.

@@ -297,68 +297,68 @@ Optimization::Impl::Impl(VulkanContext& c, const OptimizeOptions& o)
   // Everything that can be wrong with the input is checked before the run directory is touched.
   Checkpoint checkpoint;
   together([&] {
-  if (options.resume) {
-    checkResumableRun(run);
-    info = readRunInfo(run);
-    std::ifstream copy(run / "experiment.json", std::ios::binary);
-    std::string text((std::istreambuf_iterator<char>(copy)), std::istreambuf_iterator<char>());
-    e = parseExperimentJson(text, (run / "experiment.json").string(), info.experiment.parent_path());
-    checkpoint = readCheckpoint(run / "checkpoint.bin");
-    checkCheckpointMatches(run / "checkpoint.bin", checkpoint, e);
-  } else {
-    e = loadExperiment(options.experiment);
-    info = {options.experiment, options.memoryBudget};
-  }
-  if (options.iterations) e.stop.iterations = *options.iterations;
-  // Target images from files are read (and checked against their view and gate) here, once: a
-  // scan's file once for all its points.
-  entries = targetEntries(e);
-  targets.resize(e.targets.size());
-  for (const TargetEntry& entry : entries) {
-    const Target& first = e.targets[entry.targets.front()];
-    if (first.synthesize) {
-      for (const ExperimentParameter& p : e.parameters)
-        if (!p.truth) fail(e.source.string(), "targets[" + std::to_string(first.entry) + "].image", "synthesising needs a truth for every parameter; \"" + p.name + "\" has none");
-      continue;
+    if (options.resume) {
+      checkResumableRun(run);
+      info = readRunInfo(run);
+      std::ifstream copy(run / "experiment.json", std::ios::binary);
+      std::string text((std::istreambuf_iterator<char>(copy)), std::istreambuf_iterator<char>());
+      e = parseExperimentJson(text, (run / "experiment.json").string(), info.experiment.parent_path());
+      checkpoint = readCheckpoint(run / "checkpoint.bin");
+      checkCheckpointMatches(run / "checkpoint.bin", checkpoint, e);
+    } else {
+      e = loadExperiment(options.experiment);
+      info = {options.experiment, options.memoryBudget};
     }
-    std::vector<ImageSet> images = loadTargetImages(e, entry);
-    for (size_t k = 0; k < images.size(); ++k) targets[entry.targets[k]] = std::move(images[k]);
-  }
-  for (size_t t = 0; t < e.targets.size(); ++t) {
-    // render.max_depth limits the model being fitted; the synthesised targets stand for the
-    // measurement and keep the scene's depth (synthesizeTargets).
-    setups.push_back(targetSetup(e, t));
-    if (e.budget.maxDepth > 0) setups.back().setup.settings.maxDepth = e.budget.maxDepth;
-  }
-  // A target whose image and smallest batch alone exceed the device or --mem fails here, with what
-  // it would need, before the run directory is touched (the scene comes on top).
-  for (size_t t = 0; t < e.targets.size(); ++t) {
-    const glm::uvec2 pixels = imagePixels(setups[t].setup.camera);
-    try {
-      checkRenderMemory(context, filmAndBatchNeed(pixels.x, pixels.y, setups[t].setup.gate.layers(), 1, 0),
-                        info.memoryBudget);
-    } catch (const Error& tooLarge) {
-      fail(e.source.string(), "targets[" + std::to_string(e.targets[t].entry) + "]", tooLarge.what());
+    if (options.iterations) e.stop.iterations = *options.iterations;
+    // Target images from files are read (and checked against their view and gate) here, once: a
+    // scan's file once for all its points.
+    entries = targetEntries(e);
+    targets.resize(e.targets.size());
+    for (const TargetEntry& entry : entries) {
+      const Target& first = e.targets[entry.targets.front()];
+      if (first.synthesize) {
+        for (const ExperimentParameter& p : e.parameters)
+          if (!p.truth) fail(e.source.string(), "targets[" + std::to_string(first.entry) + "].image", "synthesising needs a truth for every parameter; \"" + p.name + "\" has none");
+        continue;
+      }
+      std::vector<ImageSet> images = loadTargetImages(e, entry);
+      for (size_t k = 0; k < images.size(); ++k) targets[entry.targets[k]] = std::move(images[k]);
     }
-  }
+    for (size_t t = 0; t < e.targets.size(); ++t) {
+      // render.max_depth limits the model being fitted; the synthesised targets stand for the
+      // measurement and keep the scene's depth (synthesizeTargets).
+      setups.push_back(targetSetup(e, t));
+      if (e.budget.maxDepth > 0) setups.back().setup.settings.maxDepth = e.budget.maxDepth;
+    }
+    // A target whose image and smallest batch alone exceed the device or --mem fails here, with what
+    // it would need, before the run directory is touched (the scene comes on top).
+    for (size_t t = 0; t < e.targets.size(); ++t) {
+      const glm::uvec2 pixels = imagePixels(setups[t].setup.camera);
+      try {
+        checkRenderMemory(context, filmAndBatchNeed(pixels.x, pixels.y, setups[t].setup.gate.layers(), 1, 0),
+                          info.memoryBudget);
+      } catch (const Error& tooLarge) {
+        fail(e.source.string(), "targets[" + std::to_string(e.targets[t].entry) + "]", tooLarge.what());
+      }
+    }
   });
   // Rank 0 prepares the run directory; the others read nothing of it until it is done.
   together([&] {
-  if (!options.resume && root) {
-    prepareRunDirectory(run, options.force);
-    writeFileAtomic(run / "experiment.json", e.text);
-    writeRunInfo(run, info);
-    // A run interrupted before its first iteration ends (while synthesising targets, say) resumes
-    // from here.
-    Checkpoint start;
-    for (const ExperimentParameter& p : e.parameters) {
-      start.names.push_back(p.name);
-      start.theta.push_back(p.initial);
+    if (!options.resume && root) {
+      prepareRunDirectory(run, options.force);
+      writeFileAtomic(run / "experiment.json", e.text);
+      writeRunInfo(run, info);
+      // A run interrupted before its first iteration ends (while synthesising targets, say) resumes
+      // from here.
+      Checkpoint start;
+      for (const ExperimentParameter& p : e.parameters) {
+        start.names.push_back(p.name);
+        start.theta.push_back(p.initial);
+      }
+      start.optimizer = Optimizer(e.optimizer, e.parameters).state();
+      start.bvhTheta = start.theta;
+      writeCheckpoint(run / "checkpoint.bin", start);
     }
-    start.optimizer = Optimizer(e.optimizer, e.parameters).state();
-    start.bvhTheta = start.theta;
-    writeCheckpoint(run / "checkpoint.bin", start);
-  }
   });
 
   model.emplace(e.scene, selectedIndices(e));
