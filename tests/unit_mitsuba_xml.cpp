@@ -404,6 +404,24 @@ TEST_F(MitsubaXml, MeshFilesLoadRelativeToTheSceneFile) {
   for (size_t t = 0; t < hidden.triangles.size(); ++t) EXPECT_GT(frontNormal(hidden, t).y, 0.5f);
 }
 
+// The feature scene (a fuzzing seed too): an include of materials that refer back to the including
+// file's defaults, a mesh file beside another folder, every shape kind.
+TEST_F(MitsubaXml, FeatureSceneLoads) {
+  const Scene s = loadScene(kData / "features.xml", {{"metal_alpha", "0.4"}});
+  ASSERT_EQ(s.shapes.size(), 5u);
+  EXPECT_EQ(s.materials.at(s.shapes[0].material).name, "paper");
+  EXPECT_NEAR(s.materials.at(s.shapes[0].material).albedo, 0.5, 1e-6);
+  EXPECT_FLOAT_EQ(s.materials.at(s.shapes[1].material).roughness, 0.4f);  // $metal_alpha, defined
+  EXPECT_NEAR(s.materials.at(s.shapes[2].material).ior, 1.5 / 1.000277, 1e-6);
+  EXPECT_GT(s.shapes[3].triangles.size(), 0u);
+  EXPECT_FLOAT_EQ(s.shapes[4].emission, 8.0f);
+  ASSERT_EQ(s.pointLights.size(), 1u);
+  EXPECT_EQ(s.camera.width, 48u);
+  EXPECT_NEAR(s.camera.fovY, 45.0f, 1e-4f);  // the smaller side of a 48 x 32 film is its height
+  EXPECT_EQ(s.render.spp, 16u);
+  EXPECT_EQ(s.render.maxDepth, 8u);
+}
+
 // ---- NLOS capture meter ----
 
 // The confocal example: an 8 x 8 grid over the wall's uv, the sensor and the laser at each point

@@ -16,6 +16,7 @@ namespace {
 constexpr uint32_t kMaxFilmSide = 16384;  // the JSON camera's resolution limit
 constexpr int64_t kMaxBins = 65536;        // the bins gate's count limit
 constexpr double kDegrees = 180.0 / std::numbers::pi;
+constexpr double kMaxPathOffset = 1e6;     // a view's path_offset in a scan file is at most this too
 
 std::string lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -202,6 +203,8 @@ Camera readPerspectiveCamera(PluginElement& e, const FilmSettings& film) {
   const double aspect = double(film.width) / double(film.height);
   const double xFov = horizontalFov(e, aspect);
   camera.fovY = float(2.0 * kDegrees * std::atan(std::tan(0.5 * xFov / kDegrees) / aspect));
+  if (!(camera.fovY > 0 && camera.fovY < 180))
+    e.fail("the vertical field of view of this film's aspect is not in (0, 180) degrees");
   // Clipping planes only cut what the camera sees nearer than near_clip or farther than far_clip;
   // vktg has none (the docs say so). Mitsuba's own checks still apply.
   const double nearClip = e.number("near_clip").value_or(1e-2), farClip = e.number("far_clip").value_or(1e4);
@@ -227,7 +230,7 @@ Camera readPerspectiveCamera(PluginElement& e, const FilmSettings& film) {
   camera.lookAt = glm::vec3(position + forward);
   camera.up = glm::vec3(glm::normalize(glm::dvec3(m * glm::dvec4(0, 1, 0, 0))));
   if (!allFinite({camera.position, camera.lookAt, camera.up}) || camera.lookAt == camera.position)
-    e.fail("the camera's position is past the float range");
+    e.fail("the camera's position is too far from the origin for float precision");
   return camera;
 }
 
@@ -332,8 +335,9 @@ NlosCapture readNlosCaptureMeter(PluginElement& meter, const RelayWall& wall, co
       view.normal = glm::vec3(normal);
       if (capture.confocal) view.lightPositions.emplace_back(laserIndex, glm::vec3(point));
       if (accounts) view.pathOffset = float(glm::distance(sensorOrigin, point) + glm::distance(laserOrigin, laser));
-      if (!allFinite({*view.position}) || !std::isfinite(view.pathOffset))
-        meter.fail("a grid point of the relay wall is past the float range");
+      if (!allFinite({*view.position})) meter.fail("a grid point of the relay wall is past the float range");
+      if (!(view.pathOffset <= kMaxPathOffset))
+        meter.fail("the legs to the wall and back are longer than " + formatNumber(kMaxPathOffset) + " m");
       scan.views.push_back(std::move(view));
     }
   if (capture.confocal) capture.laser.position = *scan.views.front().position;

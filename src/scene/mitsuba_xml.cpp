@@ -27,7 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Tessellation of Mitsuba's analytic shapes. A disk is a 64-gon inscribed in the circle (area
-// 0.16 % below pi); a sphere an icosphere of 5120 triangles inscribed in it (area 0.2 % below 4 pi).
+// 0.16 % below pi); a sphere an icosphere of 5120 triangles inscribed in it (area 0.12 % below 4 pi).
 constexpr uint32_t kDiskSegments = 64;
 constexpr uint32_t kSphereSubdivisions = 4;
 // vktg's smoothest microfacet surface stands for Mitsuba's smooth conductor and dielectric.
@@ -436,7 +436,8 @@ class SceneBuilder {
           if (std::abs(glm::dot(linear[i], linear[j]) - (i == j ? scale2 : 0.0)) > 1e-3 * scale2)
             e.fail("a sphere's to_world must not shear or scale unevenly (Mitsuba keeps it a sphere; use an obj for an ellipsoid)");
       if (glm::determinant(linear) < 0) e.fail("a mirroring to_world on a sphere is not supported: use flip_normals");
-      mesh = makeIcosphere(kSphereSubdivisions);
+      if (!m_unitSphere) m_unitSphere = makeIcosphere(kSphereSubdivisions);  // once: a scene may hold many
+      mesh = *m_unitSphere;
     } else if (type == "obj" || type == "ply") {
       const std::optional<std::string> filename = e.string("filename");
       if (!filename) e.fail("missing property \"filename\"");
@@ -549,6 +550,7 @@ class SceneBuilder {
   std::map<const XmlNode*, std::pair<uint32_t, bool>> m_materials;  // BSDF -> material, whether two-sided
   std::optional<uint32_t> m_defaultMaterial;
   std::vector<Wall> m_walls;
+  std::optional<TriangleMesh> m_unitSphere;
 };
 
 }  // namespace
