@@ -592,6 +592,8 @@ TEST_F(MitsubaXml, SensorAndIntegratorRefusals) {
       {"<sampler type=\"independent\"><integer name=\"sample_count\" value=\"0\"/></sampler>", "<integrator type=\"path\"/>",
        "sample_count", "<integer name=\"sample_count\">", {"not in [1,"}},
       {"<srf/>", "<integrator type=\"path\"/>", "<srf", "<srf>", {"unknown element"}},
+      {"", "<integrator type=\"transient_nlos_path\"/>", "<integrator", "<integrator type=\"transient_nlos_path\">",
+       {"account_first_and_last_bounces = true"}},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.sensorExtra + c.integrator);

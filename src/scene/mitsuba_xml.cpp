@@ -341,6 +341,11 @@ class SceneBuilder {
       sampler = readSampler(doc, samplers.empty() ? nullptr : samplers.front());
       m_scene.camera = readPerspectiveCamera(sensor, film);
       sensor.finish();
+      // transient_nlos_path leaves the camera's first segment and the last connection out of a
+      // path's time unless told otherwise, which no gate of a pinhole view can express.
+      if (integrator.type == "transient_nlos_path" && integrator.accounts != true)
+        doc.fail(*integrator.node, "behind a perspective sensor transient_nlos_path needs account_first_and_last_bounces = "
+                                   "true (else its times leave out the camera's and the light's segments)");
     }
     if (film.transient != integrator.transient()) {
       const XmlNode& where = film.node ? *film.node : *sensorNode;
