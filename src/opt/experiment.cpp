@@ -15,6 +15,7 @@
 
 #include "opt/experiment_capture.h"
 #include "plan/terms.h"
+#include "scene/mitsuba_xml_document.h"
 #include "scene/scene_values.h"
 #include "scene/scan.h"
 #include "scene/scene_view.h"
@@ -66,7 +67,8 @@ JsonValue absentField(const JsonObject& object, std::string_view key) {
 
 class ExperimentParser {
  public:
-  ExperimentParser(std::string file, fs::path baseDir) : m_file(std::move(file)), m_baseDir(std::move(baseDir)) {}
+  ExperimentParser(std::string file, fs::path baseDir, SceneDefines defines)
+      : m_file(std::move(file)), m_baseDir(std::move(baseDir)), m_defines(std::move(defines)) {}
 
   Experiment parse(const Json& json) {
     m_x.source = m_file;
@@ -102,14 +104,33 @@ class ExperimentParser {
   }
 
  private:
+  // "scene.json", or {"file": "scene.xml", "defines": {"name": "value", ...}} for a Mitsuba XML
+  // scene's $name parameters (numbers and booleans are written as JSON writes them).
   void loadSceneField(const JsonValue& field) {
-    const std::string path = field.string();
-    if (path.empty()) field.fail("empty path: name the scene file (relative to this file's folder)");
+    JsonValue fileField = field;
+    if (field.json().is_object()) {
+      const JsonObject o(field, {"file", "defines"});
+      fileField = o.field("file");
+      if (o.has("defines")) {
+        const JsonValue defines = o.field("defines");
+        if (!defines.json().is_object()) defines.fail("wrong type: expected an object mapping parameter names to values");
+        for (const auto& item : defines.json().items()) {
+          const JsonValue entry{&item.value(), m_file, defines.path + "." + item.key()};
+          if (!isValidDefineName(item.key())) entry.fail("a parameter name uses only letters, digits and '_'");
+          if (entry.json().is_string()) m_x.sceneDefines[item.key()] = entry.json().get<std::string>();
+          else if (entry.json().is_number() || entry.json().is_boolean()) m_x.sceneDefines[item.key()] = entry.json().dump();
+          else entry.fail("wrong type: expected a string, a number or a boolean");
+        }
+      }
+    }
+    for (const auto& [name, value] : m_defines) m_x.sceneDefines[name] = value;
+    const std::string path = fileField.string();
+    if (path.empty()) fileField.fail("empty path: name the scene file (relative to this file's folder)");
     m_x.scenePath = m_baseDir / path;
     try {
-      m_x.scene = loadScene(m_x.scenePath);
+      m_x.scene = loadScene(m_x.scenePath, m_x.sceneDefines);
     } catch (const Error& e) {
-      field.fail(e.what());
+      fileField.fail(e.what());
     }
     const Scene& scene = m_x.scene;
     m_parameterIndex.reserve(scene.parameters.size());
@@ -629,6 +650,7 @@ class ExperimentParser {
 
   std::string m_file;
   fs::path m_baseDir;
+  SceneDefines m_defines;  // -D: over the file's own
   Experiment m_x;
   std::unordered_map<std::string, uint32_t> m_parameterIndex;  // scene parameter name -> index
   std::unordered_map<std::string, uint32_t> m_shapeIndex;      // shape name -> index
@@ -639,15 +661,16 @@ class ExperimentParser {
 
 }  // namespace
 
-Experiment parseExperimentJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir) {
+Experiment parseExperimentJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir,
+                               const SceneDefines& defines) {
   const Json json = parseJsonText(text, file);
-  Experiment experiment = ExperimentParser(file, baseDir).parse(json);
+  Experiment experiment = ExperimentParser(file, baseDir, defines).parse(json);
   experiment.text = text;
   return experiment;
 }
 
-Experiment loadExperiment(const std::filesystem::path& path) {
-  Experiment experiment = parseExperimentJson(readTextFile(path), path.string(), path.parent_path());
+Experiment loadExperiment(const std::filesystem::path& path, const SceneDefines& defines) {
+  Experiment experiment = parseExperimentJson(readTextFile(path), path.string(), path.parent_path(), defines);
   experiment.source = path;
   return experiment;
 }

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "scene/mesh_files.h"
+#include "scene/mitsuba_xml.h"
 #include "scene/primitives.h"
 #include "scene/scene_values.h"
 #include "vktg/error.h"
@@ -487,11 +488,14 @@ Scene parseSceneJson(const std::string& text, const std::string& file, const std
   return SceneParser(file, baseDir).parse(json);
 }
 
-Scene loadScene(const std::filesystem::path& path) {
+Scene loadScene(const std::filesystem::path& path, const SceneDefines& defines) {
   const std::string ext = lowerExtension(path);
+  if (ext == ".xml") return loadMitsubaScene(path, defines);
+  if (!defines.empty())
+    fail(path.string(), "-D " + defines.begin()->first, "defines apply to Mitsuba XML scenes only (this is a " + ext + " file)");
   if (ext == ".gltf" || ext == ".glb") return loadGltfScene(path);
   if (ext != ".json")
-    fail(path.string(), "", "unknown scene file extension \"" + ext + "\" (expected .json, .gltf or .glb)");
+    fail(path.string(), "", "unknown scene file extension \"" + ext + "\" (expected .json, .xml, .gltf or .glb)");
   Scene scene = parseSceneJson(readTextFile(path), path.string(), path.parent_path());
   scene.source = path;
   return scene;
