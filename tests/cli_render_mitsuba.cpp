@@ -87,6 +87,9 @@ TEST(CliRenderMitsuba, CaptureMeterRendersItsWholeScan) {
   const fs::path small = dir / "small.exr";
   runVktgOk({"render", kNlos.string(), "-Dgrid=3", "-D", "spp=2", "--quiet", "--out", small.string()}, dir);
   EXPECT_EQ(readExr(small).width, 3u);
+  // The meter's scan as a capture file, without a --scan.
+  runVktgOk({"render", kNlos.string(), "-Dgrid=3", "-D", "spp=2", "--quiet", "--out", (dir / "small.hdf5").string()}, dir);
+  EXPECT_GT(fs::file_size(dir / "small.hdf5"), 0u);
 }
 
 TEST(CliRenderMitsuba, DefineErrors) {

@@ -106,7 +106,8 @@ int runRender(const std::vector<std::string>& argv) {
     // What tal keeps in scene_info: where the transients came from.
     const nlohmann::json info = {{"generator", "vktg render"},
                                  {"scene", args.positionals.empty() ? std::string("(built-in default)") : args.positionals[0]},
-                                 {"scan", *args.get("--scan")},
+                                 {"scan", args.get("--scan").value_or("(the scene's nlos_capture_meter)")},
+                                 {"defines", definesOf(args)},
                                  {"spp", scene.render.spp},
                                  {"seed", scene.render.seed},
                                  {"gate", scene.gate.describe()}};

@@ -15,6 +15,7 @@
 
 #include "opt/experiment_capture.h"
 #include "plan/terms.h"
+#include "scene/mitsuba_xml.h"
 #include "scene/mitsuba_xml_document.h"
 #include "scene/scene_values.h"
 #include "scene/scan.h"
@@ -104,13 +105,16 @@ class ExperimentParser {
   }
 
  private:
-  // "scene.json", or {"file": "scene.xml", "defines": {"name": "value", ...}} for a Mitsuba XML
-  // scene's $name parameters (numbers and booleans are written as JSON writes them).
+  // "scene.json", or {"file": "scene.xml", "defines": {"name": "value", ...}, "parameters": [...]}
+  // for a Mitsuba XML scene's $name values (numbers and booleans are written as JSON writes them)
+  // and the parameters of a scene format that declares none (XML, glTF), in the JSON scene's form.
   void loadSceneField(const JsonValue& field) {
     JsonValue fileField = field;
+    std::optional<JsonValue> parameters;
     if (field.json().is_object()) {
-      const JsonObject o(field, {"file", "defines"});
+      const JsonObject o(field, {"file", "defines", "parameters"});
       fileField = o.field("file");
+      if (o.has("parameters")) parameters = o.field("parameters");
       if (o.has("defines")) {
         const JsonValue defines = o.field("defines");
         if (!defines.json().is_object()) defines.fail("wrong type: expected an object mapping parameter names to values");
@@ -128,9 +132,20 @@ class ExperimentParser {
     if (path.empty()) fileField.fail("empty path: name the scene file (relative to this file's folder)");
     m_x.scenePath = m_baseDir / path;
     try {
-      m_x.scene = loadScene(m_x.scenePath, m_x.sceneDefines);
+      if (isMitsubaXmlPath(m_x.scenePath)) {
+        MitsubaScene loaded = loadMitsubaXml(m_x.scenePath, m_x.sceneDefines);
+        m_x.scene = std::move(loaded.scene);
+        m_sceneCapture = std::move(loaded.capture);
+      } else {
+        m_x.scene = loadScene(m_x.scenePath, m_x.sceneDefines);
+      }
     } catch (const Error& e) {
       fileField.fail(e.what());
+    }
+    if (parameters) {
+      if (lowerExtension(m_x.scenePath) == ".json")
+        parameters->fail("a JSON scene declares its parameters in its own file (\"parameters\" there)");
+      m_x.scene = withParameters(std::move(m_x.scene), *parameters);
     }
     const Scene& scene = m_x.scene;
     m_parameterIndex.reserve(scene.parameters.size());
@@ -179,6 +194,14 @@ class ExperimentParser {
     if (o.has("view")) target.view = parseSceneView(o.field("view"), m_x.scene);
     target.gate = o.has("gate") ? parseGateValue(o.field("gate")) : m_x.scene.gate;
     parseImage(o.field("image"), m_x.targets.size(), target);
+    // A Mitsuba XML capture (nlos_capture_meter) is the scene's own scan: a target without a view
+    // or a scan measures it, as `vktg render` of the file renders it.
+    if (!o.has("scan") && !o.has("view") && m_sceneCapture) {
+      if (!names.insert(target.name).second) nameWhere.fail("duplicate target name " + inQuotes(target.name));
+      addScanTargets(target, m_sceneCapture->views, m_sceneCapture->columns, m_sceneCapture->rows, m_sceneCapture->grid,
+                     nameWhere, names);
+      return;
+    }
     if (!o.has("scan")) {
       addTarget(std::move(target), nameWhere, names);
       return;
@@ -652,6 +675,7 @@ class ExperimentParser {
   fs::path m_baseDir;
   SceneDefines m_defines;  // -D: over the file's own
   Experiment m_x;
+  std::optional<Scan> m_sceneCapture;  // a Mitsuba XML scene's nlos_capture_meter scan
   std::unordered_map<std::string, uint32_t> m_parameterIndex;  // scene parameter name -> index
   std::unordered_map<std::string, uint32_t> m_shapeIndex;      // shape name -> index
   std::vector<size_t> m_selectedBy;  // per scene parameter: the "parameters" entry that selected it

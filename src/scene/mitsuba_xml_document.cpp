@@ -37,6 +37,11 @@ bool parseVersion(const std::string& text, int& major) {
   return parts <= 3;
 }
 
+// The line of the byte at `offset`: 1 plus the line feeds before it (pugixml reports offsets).
+size_t lineNumberAt(std::string_view text, size_t offset) {
+  return 1 + size_t(std::count(text.begin(), text.begin() + std::min(offset, text.size()), '\n'));
+}
+
 }  // namespace
 
 bool isValidDefineName(std::string_view name) {
