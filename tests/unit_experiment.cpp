@@ -78,6 +78,21 @@ const BadCase kCases[] = {
     {"scene not found", [](json& j) { j["scene"] = "nowhere.json"; }, "scene", "file not found"},
     {"scene of unknown kind", [](json& j) { j["scene"] = "front.exr"; }, "scene", "unknown scene file extension"},
     {"empty scene path", [](json& j) { j["scene"] = ""; }, "scene", "empty path"},
+    {"scene object without a file", [](json& j) { j["scene"] = {{"defines", json::object()}}; }, "scene.file",
+     "missing required field"},
+    {"unknown field of the scene object", [](json& j) { j["scene"] = {{"file", "terrain.json"}, {"colour", 1}}; }, "scene.colour",
+     "unknown field"},
+    {"defines not an object", [](json& j) { j["scene"] = {{"file", "terrain.json"}, {"defines", 3}}; }, "scene.defines",
+     "wrong type"},
+    {"define of a bad name", [](json& j) { j["scene"] = {{"file", "terrain.json"}, {"defines", {{"a b", "1"}}}}; },
+     "scene.defines.a b", "letters, digits"},
+    {"define of an array", [](json& j) { j["scene"] = {{"file", "terrain.json"}, {"defines", {{"a", {1}}}}}; }, "scene.defines.a",
+     "wrong type"},
+    {"scene parameters for a JSON scene",
+     [](json& j) { j["scene"] = {{"file", "terrain.json"}, {"parameters", json::array({{{"type", "gate_center"}, {"name", "t"}}})}}; },
+     "scene.parameters", "in its own file"},
+    {"defines for a JSON scene", [](json& j) { j["scene"] = {{"file", "terrain.json"}, {"defines", {{"a", 1}}}}; }, "scene.file",
+     "Mitsuba XML"},
     {"zero checkpoint interval", [](json& j) { j["checkpoint_every"] = 0; }, "checkpoint_every", "out of range"},
     {"zero image interval", [](json& j) { j["images_every"] = 0; }, "images_every", "out of range"},
     {"negative seed", [](json& j) { j["seed"] = -1; }, "seed", "out of range"},
@@ -276,6 +291,48 @@ TEST_P(ExperimentErrorCase, NamesFileFieldAndProblem) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, ExperimentErrorCase, testing::ValuesIn(kCases), test::tableCaseName<BadCase>);
+
+// A Mitsuba XML scene with its "defines", over which the command line's -D wins. The XML scene
+// has no parameters, so the first parameter of the experiment fails: after the scene loaded.
+TEST(ExperimentErrors, MitsubaSceneTakesDefines) {
+  json j = baseExperiment();
+  j["scene"] = {{"file", "../mitsuba/nlos_confocal.xml"}, {"defines", {{"grid", 4}, {"spp", "8"}}}};
+  j["targets"] = json::array({{{"name", "front"}, {"image", "front.exr"}}});
+  auto message = [&](const SceneDefines& defines) {
+    try {
+      parseExperimentJson(j.dump(), kFile, kData, defines);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message({}).find("\"h*\" matches no parameter of nlos_confocal.xml"), std::string::npos) << message({});
+  EXPECT_NE(message({{"grid", "x"}}).find("is not an integer"), std::string::npos) << message({{"grid", "x"}});
+  EXPECT_NE(message({{"nothing", "1"}}).find("-D nothing"), std::string::npos) << message({{"nothing", "1"}});
+}
+
+// The parameters of a Mitsuba XML scene come from the experiment's scene object, bound to the
+// XML's ids and checked as a JSON scene's are.
+TEST(ExperimentErrors, MitsubaSceneParametersNameTheirField) {
+  json j = baseExperiment();
+  j["targets"] = json::array({{{"name", "front"}, {"image", "front.exr"}}});
+  auto message = [&](const json& parameter) {
+    j["scene"] = {{"file", "../mitsuba/nlos_confocal.xml"}, {"parameters", json::array({parameter})}};
+    try {
+      parseExperimentJson(j.dump(), kFile, kData);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  std::string m = message({{"name", "y"}, {"type", "translate"}, {"shape", "nowhere"}, {"axis", {0, 1, 0}}});
+  EXPECT_NE(m.find(std::string(kFile) + ": scene.parameters[0].shape: unknown shape \"nowhere\""), std::string::npos) << m;
+  m = message({{"name", "y"}, {"type", "translate"}, {"shape", "hidden"}, {"axis", {0, 0, 0}}});
+  EXPECT_NE(m.find("scene.parameters[0].axis: zero axis"), std::string::npos) << m;
+  // Bound: the experiment's first parameter, "h*", is now what fails.
+  m = message({{"name", "y"}, {"type", "translate"}, {"shape", "hidden"}, {"axis", {0, 1, 0}}});
+  EXPECT_NE(m.find("\"h*\" matches no parameter of nlos_confocal.xml"), std::string::npos) << m;
+}
 
 TEST(ExperimentErrors, SyntaxAndDuplicateKeysAndRoot) {
   expectError([] { parseExperimentJson("{\n  \"version\": 1,\n  ]\n}", kFile, kData); }, {kFile, "syntax error", "line 3"});

@@ -105,6 +105,28 @@ TEST(Primitives, IcosphereAreaApproachesFourPiWithinDerivedBound) {
   }
 }
 
+TEST(Primitives, DiskIsAFanInscribedInTheUnitCircleFacingPlusZ) {
+  for (uint32_t segments : {3u, 4u, 64u}) {
+    const TriangleMesh mesh = makeDisk(segments);
+    ASSERT_EQ(mesh.triangles.size(), segments);
+    ASSERT_EQ(mesh.positions.size(), segments + 1u);
+    EXPECT_EQ(mesh.positions[0], glm::vec3(0.0f));
+    EXPECT_EQ(mesh.positions[1], glm::vec3(1.0f, 0.0f, 0.0f));  // rim vertex 0 on +x
+    for (size_t k = 1; k < mesh.positions.size(); ++k) {
+      EXPECT_NEAR(glm::length(mesh.positions[k]), 1.0f, 1e-6f);
+      EXPECT_EQ(mesh.positions[k].z, 0.0f);
+    }
+    for (const glm::uvec3& t : mesh.triangles) EXPECT_NEAR(normalOf(mesh, t).z, 1.0, 1e-6);
+    // The inscribed regular polygon: n/2 sin(2 pi / n); a square is 2, a triangle 3 sqrt(3)/4.
+    EXPECT_NEAR(meshArea(mesh.positions, mesh.triangles), 0.5 * segments * std::sin(2 * M_PI / segments), 1e-6);
+    // The rim closes: every rim vertex is used by exactly two triangles.
+    std::map<uint32_t, int> uses;
+    for (const glm::uvec3& t : mesh.triangles) ++uses[t.y], ++uses[t.z];
+    for (uint32_t k = 1; k <= segments; ++k) EXPECT_EQ(uses[k], 2) << "rim vertex " << k;
+  }
+  EXPECT_NEAR(meshArea(makeDisk(4).positions, makeDisk(4).triangles), 2.0, 1e-6);
+}
+
 TEST(Primitives, FlatHeightfieldFacesUp) {
   const TriangleMesh mesh = makeHeightfield(4, 3, 3.0f, 2.0f, std::vector<float>(12, 0.5f));
   EXPECT_EQ(mesh.triangles.size(), 2u * 3u * 2u);

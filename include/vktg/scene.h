@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -84,8 +85,13 @@ struct Scene {
   double emittedPower() const;
 };
 
-// Loads a `.json` scene file or a plain `.gltf`/`.glb`. Throws vktg::Error ("file: field: problem").
-Scene loadScene(const std::filesystem::path& path);
+// Values for the $name parameters of a Mitsuba XML scene (`-D name=value`), overriding its
+// <default> elements.
+using SceneDefines = std::map<std::string, std::string>;
+
+// Loads a `.json` scene file, a plain `.gltf`/`.glb` or a Mitsuba 3 `.xml` scene (with `defines`;
+// other formats take none). Throws vktg::Error ("file: field: problem", "file:line: ..." for XML).
+Scene loadScene(const std::filesystem::path& path, const SceneDefines& defines = {});
 // Parses scene JSON text; `file` names the source in errors, `baseDir` resolves relative paths.
 Scene parseSceneJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir);
 // Loads a glTF 2.0 file as a whole scene (meshes, materials, emissive meshes, first camera).

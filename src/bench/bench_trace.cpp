@@ -166,7 +166,7 @@ struct NamedScene {
 std::vector<NamedScene> scenesToTrace(const BenchTraceOptions& options) {
   std::vector<NamedScene> scenes;
   if (!options.scene.empty()) {
-    scenes.push_back({options.scene.filename().string(), loadScene(options.scene)});
+    scenes.push_back({options.scene.filename().string(), loadScene(options.scene, options.defines)});
     return scenes;
   }
   scenes.push_back({"default room", defaultScene()});

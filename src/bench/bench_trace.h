@@ -10,11 +10,13 @@
 
 #include "bench/bench_common.h"
 #include "vk/vk_context.h"
+#include "vktg/scene.h"
 
 namespace vktg {
 
 struct BenchTraceOptions : BenchOptions {
   std::filesystem::path scene;                   // a scene file; empty: the default room and ...
+  SceneDefines defines;                          // a Mitsuba XML scene file's $name values (-D)
   std::vector<uint32_t> sizes = {257, 725};      // ... rooms with n x n heightfields (131k, 1.05M triangles)
   uint32_t rays = 1u << 20;                      // rays per set (times scale, at least 4096)
   double secondsPerPoint = 2.0;                  // trace the set repeatedly until this long (times scale)

@@ -11,6 +11,11 @@ std::optional<std::string> ParsedArgs::get(const std::string& option) const {
   return it->second;
 }
 
+std::vector<std::string> ParsedArgs::all(const std::string& option) const {
+  auto it = repeated.find(option);
+  return it == repeated.end() ? std::vector<std::string>{} : it->second;
+}
+
 std::optional<double> ParsedArgs::number(const std::string& option) const {
   auto text = get(option);
   if (!text) return std::nullopt;
@@ -39,15 +44,25 @@ ParsedArgs parseArgs(const CommandSpec& spec, const std::vector<std::string>& ar
     if (arg.size() > 1 && arg[0] == '-' && !(arg.size() > 1 && (std::isdigit(arg[1]) || arg[1] == '.'))) {
       std::string name = arg, value;
       bool inlineValue = false;
-      if (auto eq = arg.find('='); eq != std::string::npos) {
-        name = arg.substr(0, eq);
-        value = arg.substr(eq + 1);
-        inlineValue = true;
-      }
       const OptionSpec* option = nullptr;
+      // A short alias with its value glued on: -DNAME=VALUE.
       for (const auto& o : spec.options)
-        if (o.name == name) option = &o;
+        if (!o.alias.empty() && !o.valueName.empty() && arg.size() > o.alias.size() && arg.compare(0, o.alias.size(), o.alias) == 0) {
+          option = &o;
+          value = arg.substr(o.alias.size());
+          inlineValue = true;
+        }
+      if (!option) {
+        if (auto eq = arg.find('='); eq != std::string::npos) {
+          name = arg.substr(0, eq);
+          value = arg.substr(eq + 1);
+          inlineValue = true;
+        }
+        for (const auto& o : spec.options)
+          if (o.name == name || (!o.alias.empty() && o.alias == name)) option = &o;
+      }
       if (!option) throw UsageError("unknown option '" + name + "' for `vktg " + spec.name + "`");
+      name = option->name;
       if (!option->valueName.empty() && !inlineValue) {
         if (i + 1 >= args.size()) throw UsageError(name + " needs a value (" + option->valueName + ")");
         value = args[++i];
@@ -55,6 +70,7 @@ ParsedArgs parseArgs(const CommandSpec& spec, const std::vector<std::string>& ar
         throw UsageError(name + " takes no value");
       }
       parsed.values[name] = value;
+      if (option->repeatable) parsed.repeated[name].push_back(value);
     } else {
       parsed.positionals.push_back(arg);
     }
@@ -67,7 +83,7 @@ ParsedArgs parseArgs(const CommandSpec& spec, const std::vector<std::string>& ar
 std::string helpText(const CommandSpec& spec) {
   std::string out = "usage: vktg " + spec.usage + "\n\n" + spec.description + "\n\noptions:\n";
   for (const auto& o : spec.options) {
-    std::string left = "  " + o.name + (o.valueName.empty() ? "" : " " + o.valueName);
+    std::string left = "  " + (o.alias.empty() ? "" : o.alias + ", ") + o.name + (o.valueName.empty() ? "" : " " + o.valueName);
     if (left.size() < 26) left.resize(26, ' ');
     else left += "\n" + std::string(26, ' ');
     out += left + o.help + "\n";

@@ -14,6 +14,8 @@ struct OptionSpec {
   std::string name;        // "--spp"
   std::string valueName;   // "N"; empty for a flag
   std::string help;
+  std::string alias = "";  // a short form ("-D"), which also takes its value glued on ("-DNAME=VALUE")
+  bool repeatable = false; // may be given several times: every value is kept (ParsedArgs::all)
 };
 
 struct CommandSpec {
@@ -32,9 +34,11 @@ class UsageError : public std::runtime_error {
 
 struct ParsedArgs {
   std::vector<std::string> positionals;
-  std::map<std::string, std::string> values;  // option -> value ("" for flags)
+  std::map<std::string, std::string> values;  // option -> value ("" for flags); the last, if repeated
+  std::map<std::string, std::vector<std::string>> repeated;  // repeatable option -> every value, in order
   bool has(const std::string& option) const { return values.count(option) != 0; }
   std::optional<std::string> get(const std::string& option) const;
+  std::vector<std::string> all(const std::string& option) const;
   // Typed getters throw UsageError naming the option.
   std::optional<double> number(const std::string& option) const;
   std::optional<uint32_t> count(const std::string& option, uint32_t min, uint32_t max) const;

@@ -61,7 +61,8 @@ const CommandSpec& benchSpec() {
                   "optimize: also time an iteration whose render takes 1/M of the samples and whose interior term runs in M "
                   "chained passes (default 4; 1 leaves it out; M must divide the samples per pixel)"},
                  {"--no-embree", "", "trace: vktg only, even when built with Embree"},
-                 {"--iterations", "N", "scale: iterations timed after the first (default 4)"}};
+                 {"--iterations", "N", "scale: iterations timed after the first (default 4)"},
+                 defineOption()};
     for (auto& o : deviceOptions()) s.options.push_back(o);
     s.examples = "  vktg bench render --out runs/bench-render\n  vktg bench render --scale 0.25 --runs 1 --steps 3\n";
     return s;
@@ -124,6 +125,7 @@ int runBench(const std::vector<std::string>& argv) {
     throw UsageError("`vktg bench " + which + "` runs as one process; under mpirun only `vktg bench scale` (docs/mpi.md)");
   if (which != "trace" && args.positionals.size() > 1)
     throw UsageError("`vktg bench " + which + "` takes no scene file");
+  if (which != "trace" && args.has("--define")) throw UsageError("-D: `vktg bench " + which + "` takes no scene file");
   if (which == "bvh") {
     const uint32_t runs = args.count("--runs", 1, 100).value_or(3);
     std::printf("| triangles | BVH build (median of %u) | nodes |\n| ---: | ---: | ---: |\n", runs);
@@ -174,6 +176,7 @@ int runBench(const std::vector<std::string>& argv) {
     BenchTraceOptions bench;
     static_cast<BenchOptions&>(bench) = options;
     if (args.positionals.size() > 1) bench.scene = args.positionals[1];
+    bench.defines = definesOf(args);
     if (auto sizes = args.get("--sizes")) bench.sizes = parseSizes(*sizes);
     bench.embree = !args.has("--no-embree");
     writeBenchTraceReport(benchTrace(*context, bench), bench, command);

@@ -110,7 +110,8 @@ int runGrad(const std::vector<std::string>& argv) {
   Collective* const world = cli::world();
   const bool root = !world || world->root();
   bool quiet = args.has("--quiet") || !root;
-  Scene scene = loadSceneWithOverrides(args, true);
+  LoadedScene loaded = loadSceneWithOverrides(args, true);
+  Scene& scene = loaded.scene;
   std::vector<std::string> names = selectParameters(scene, args.get("--param").value_or(""));
   GradientOptions gradient;
   if (auto terms = args.get("--terms")) {
@@ -137,7 +138,7 @@ int runGrad(const std::vector<std::string>& argv) {
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "grad");
   std::vector<std::filesystem::path> inputs(args.positionals.begin(), args.positionals.end());
-  const std::optional<Scan> scan = scanOf(args, scene, inputs);
+  const std::optional<Scan> scan = scanOf(args, scene, inputs, std::move(loaded.capture));
   checkOutputPath(exr, inputs);
   for (const char* term : {".interior.exr", ".edge.exr", ".pathlength.exr", ".npy", ".interior.npy", ".edge.npy",
                            ".pathlength.npy"})
@@ -205,7 +206,8 @@ int runFd(const std::vector<std::string>& argv) {
     return 0;
   }
   bool quiet = args.has("--quiet");
-  Scene scene = loadSceneWithOverrides(args, true);
+  LoadedScene loaded = loadSceneWithOverrides(args, true);
+  Scene& scene = loaded.scene;
   auto param = args.get("--param");
   if (!param) throw UsageError("--param NAME is required");
   auto eps = args.number("--eps");
@@ -215,7 +217,7 @@ int runFd(const std::vector<std::string>& argv) {
   options.memoryBudget = memoryBudget(args);
   std::filesystem::path exr = outputPath(args, "fd");
   std::vector<std::filesystem::path> inputs(args.positionals.begin(), args.positionals.end());
-  const std::optional<Scan> scan = scanOf(args, scene, inputs);
+  const std::optional<Scan> scan = scanOf(args, scene, inputs, std::move(loaded.capture));
   checkOutputPath(exr, inputs);
   auto context = makeContext(args);
   Renderer renderer(*context);

@@ -27,7 +27,8 @@ const CommandSpec& optimizeSpec() {
                  {"--resume", "RUN_DIR", "continue the run in RUN_DIR from its checkpoint"},
                  {"--force", "", "replace RUN_DIR if it holds an earlier run"},
                  {"--iterations", "N", "stop after N iterations in all (overrides stop.iterations)"},
-                 {"--explain", "", "print the render and gradient plans of the first iteration"}};
+                 {"--explain", "", "print the render and gradient plans of the first iteration"},
+                 defineOption()};
     for (auto& o : deviceOptions()) s.options.push_back(o);
     s.examples =
         "  vktg optimize experiments/heightfield/experiment.json --out runs/hf\n"
@@ -50,6 +51,7 @@ int runOptimize(const std::vector<std::string>& argv) {
     if (!args.positionals.empty()) throw UsageError("--resume takes the run directory; the experiment is the run's own");
     if (args.has("--out") || args.has("--force")) throw UsageError("--resume continues a run: no --out or --force");
     options.runDirectory = *args.get("--resume");
+    if (args.has("--define")) throw UsageError("--resume continues a run with its own defines: no -D");
   } else {
     if (args.positionals.empty()) throw UsageError("an experiment file is required (or --resume RUN_DIR)");
     if (!args.has("--out")) throw UsageError("--out RUN_DIR is required");
@@ -57,6 +59,7 @@ int runOptimize(const std::vector<std::string>& argv) {
     options.runDirectory = *args.get("--out");
   }
   options.force = args.has("--force");
+  options.defines = definesOf(args);
   options.memoryBudget = memoryBudget(args);
   if (auto n = args.count("--iterations", 1, 1u << 30)) options.iterations = *n;
   options.explain = args.has("--explain");

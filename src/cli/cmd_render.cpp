@@ -24,7 +24,9 @@ const CommandSpec& renderSpec() {
     s.usage = "render [SCENE] [options]";
     s.description =
         "Renders what a time-of-flight camera sees through a time gate. SCENE is a .json scene, a .gltf/.glb\n"
-        "file, or omitted for the built-in default (a Cornell-box-like room behind a box gate). Writes an EXR\n"
+        "file, a Mitsuba 3 / mitransient .xml scene (-D NAME=VALUE sets its $NAME; an nlos_capture_meter renders\n"
+        "its whole grid of wall points as a scan), or omitted for the built-in default (a Cornell-box-like room\n"
+        "behind a box gate). Writes an EXR\n"
         "(one layer per bin for a transient stack) and a PNG preview. With NEE left to the planner and a gate of\n"
         "finite extent, from 256 spp, a pilot at 1/32 of the samples per estimator picks standard, ellipsoidal or\n"
         "MIS NEE by the lowest predicted relMSE x time on this device where the render is long enough for that to\n"
@@ -49,7 +51,8 @@ const CommandSpec& renderSpec() {
         "  vktg render scenes/cornell_box.json --gate bins:3,0.1,40 --out out/stack.exr --npy\n"
         "  vktg render scenes/confocal_plane.json --gate gaussian:2,0.002 --explain\n"
         "  vktg render experiments/confocal_scan/scene.json --scan experiments/confocal_scan/scan.json --npy\n"
-        "  vktg render experiments/confocal_scan/scene.json --scan experiments/confocal_scan/scan.json --out out/scan.hdf5\n";
+        "  vktg render experiments/confocal_scan/scene.json --scan experiments/confocal_scan/scan.json --out out/scan.hdf5\n"
+        "  vktg render scenes/default_room.xml -D spp=256 -D resolution=64\n";
     return s;
   }();
   return spec;
@@ -65,7 +68,8 @@ int runRender(const std::vector<std::string>& argv) {
   Collective* const world = cli::world();
   const bool root = !world || world->root();
   bool quiet = args.has("--quiet") || !root;
-  Scene scene = loadSceneWithOverrides(args, true);
+  LoadedScene loaded = loadSceneWithOverrides(args, true);
+  Scene& scene = loaded.scene;
   RenderOptions options;
   applyEstimatorOptions(args, options);
   options.memoryBudget = memoryBudget(args);
@@ -81,7 +85,7 @@ int runRender(const std::vector<std::string>& argv) {
   std::filesystem::path npy = withExtension(exr, ".npy");
   std::vector<std::filesystem::path> inputs;
   if (!args.positionals.empty()) inputs.push_back(args.positionals[0]);
-  const std::optional<Scan> scan = scanOf(args, scene, inputs);
+  const std::optional<Scan> scan = scanOf(args, scene, inputs, std::move(loaded.capture));
   if (capture) checkScanCapture(scene, scan, exr);
   for (const auto& out : {exr, png, npy}) checkOutputPath(out, inputs);
 
@@ -122,7 +126,8 @@ int runRender(const std::vector<std::string>& argv) {
     // What tal keeps in scene_info: where the transients came from.
     const nlohmann::json info = {{"generator", "vktg render"},
                                  {"scene", args.positionals.empty() ? std::string("(built-in default)") : args.positionals[0]},
-                                 {"scan", *args.get("--scan")},
+                                 {"scan", args.get("--scan").value_or("(the scene's nlos_capture_meter)")},
+                                 {"defines", definesOf(args)},
                                  {"spp", scene.render.spp},
                                  {"seed", scene.render.seed},
                                  {"gate", scene.gate.describe()}};

@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include "cli/mpi_world.h"
+#include "scene/mitsuba_xml.h"
+#include "scene/mitsuba_xml_document.h"
 #include "vktg/error.h"
 
 namespace vktg::cli {
@@ -26,7 +28,25 @@ std::vector<OptionSpec> sceneOverrideOptions() {
           {"--max-depth", "N", "maximum path vertices after the camera"},
           {"--resolution", "WxH", "image size (perspective cameras)"},
           {"--nee", "MODE", "auto | standard | ellipsoidal | mis (default: the planner's choice)"},
-          {"--ellipsoid-selection", "HOW", "auto | descend | enumerate: how ellipsoidal connections choose a triangle (default: the planner's choice)"}};
+          {"--ellipsoid-selection", "HOW", "auto | descend | enumerate: how ellipsoidal connections choose a triangle (default: the planner's choice)"},
+          defineOption()};
+}
+
+OptionSpec defineOption() {
+  return {"--define", "NAME=VALUE",
+          "a Mitsuba XML scene's parameter $NAME (overrides its <default>; repeat for several)", "-D", true};
+}
+
+SceneDefines definesOf(const ParsedArgs& args) {
+  SceneDefines defines;
+  for (const std::string& item : args.all("--define")) {
+    const size_t eq = item.find('=');
+    const std::string name = item.substr(0, eq);
+    if (eq == std::string::npos || !isValidDefineName(name))
+      throw UsageError("-D: '" + item + "' must be NAME=VALUE, NAME of letters, digits and '_'");
+    if (!defines.emplace(name, item.substr(eq + 1)).second) throw UsageError("-D: " + name + " is defined twice");
+  }
+  return defines;
 }
 
 std::unique_ptr<VulkanContext> makeContext(const ParsedArgs& args) {
@@ -72,13 +92,20 @@ uint64_t memoryBudget(const ParsedArgs& args) {
   return uint64_t(mib.value_or(0)) << 20;  // 0: the device's default (defaultMemoryBudget)
 }
 
-Scene loadSceneWithOverrides(const ParsedArgs& args, bool allowDefault) {
-  Scene scene;
+LoadedScene loadSceneWithOverrides(const ParsedArgs& args, bool allowDefault) {
+  LoadedScene loaded;
+  Scene& scene = loaded.scene;
+  const SceneDefines defines = definesOf(args);
   if (args.positionals.empty()) {
     if (!allowDefault) throw UsageError("a scene file is required");
+    if (!defines.empty()) throw UsageError("-D: the built-in default scene has no parameters (name a Mitsuba XML scene)");
     scene = defaultScene();
+  } else if (isMitsubaXmlPath(args.positionals[0])) {
+    MitsubaScene xml = loadMitsubaXml(args.positionals[0], defines);
+    scene = std::move(xml.scene);
+    loaded.capture = std::move(xml.capture);
   } else {
-    scene = loadScene(args.positionals[0]);
+    scene = loadScene(args.positionals[0], defines);
   }
   if (auto gate = args.get("--gate")) scene.gate = parseGateSpec(*gate, "--gate");
   if (auto spp = args.count("--spp", 1, 1u << 24)) scene.render.spp = *spp;
@@ -94,7 +121,7 @@ Scene loadSceneWithOverrides(const ParsedArgs& args, bool allowDefault) {
     scene.camera.width = w;
     scene.camera.height = h;
   }
-  return scene;
+  return loaded;
 }
 
 std::function<void(double)> makeProgress(const std::string& label, bool quiet) {

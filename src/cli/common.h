@@ -4,10 +4,12 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cli/args.h"
 #include "render/renderer.h"
+#include "scene/scan.h"
 #include "vk/vk_context.h"
 #include "vktg/scene.h"
 
@@ -22,9 +24,21 @@ std::unique_ptr<VulkanContext> makeContext(const ParsedArgs& args);
 // Fails (exit status 3) if the validation layer reported anything during the run.
 int finishWithValidationCheck(VulkanContext& context, int status);
 
-// The scene named by the first positional argument (or the built-in default), with --gate,
-// --spp, --seed, --max-depth, --resolution applied.
-Scene loadSceneWithOverrides(const ParsedArgs& args, bool allowDefault);
+// -D NAME=VALUE / --define NAME=VALUE: a Mitsuba XML scene's $NAME parameter (repeatable).
+OptionSpec defineOption();
+// The values of every -D, by name; a malformed or repeated name is a UsageError.
+SceneDefines definesOf(const ParsedArgs& args);
+
+// A scene as a command loads it: a Mitsuba XML capture (nlos_capture_meter) also brings the scan of
+// its wall points, which the commands render when no --scan is given.
+struct LoadedScene {
+  Scene scene;
+  std::optional<Scan> capture;
+};
+
+// The scene named by the first positional argument (or the built-in default), with -D defines,
+// --gate, --spp, --seed, --max-depth, --resolution applied.
+LoadedScene loadSceneWithOverrides(const ParsedArgs& args, bool allowDefault);
 NeeMode parseNeeMode(const std::string& text);
 // --nee and --ellipsoid-selection (sceneOverrideOptions) into `options`.
 void applyEstimatorOptions(const ParsedArgs& args, RenderOptions& options);

@@ -13,7 +13,9 @@ namespace vktg::cli {
 // The --scan option's help, the same for every command that takes it.
 OptionSpec scanOption(const char* what);
 
-// The scan named by --scan, if any (its file joins `inputs`, which outputs must not overwrite).
-std::optional<Scan> scanOf(const ParsedArgs& args, const Scene& scene, std::vector<std::filesystem::path>& inputs);
+// The scan named by --scan (its file joins `inputs`, which outputs must not overwrite), else the
+// scene file's own capture, if it has one.
+std::optional<Scan> scanOf(const ParsedArgs& args, const Scene& scene, std::vector<std::filesystem::path>& inputs,
+                           std::optional<Scan> capture);
 
 }  // namespace vktg::cli

@@ -15,6 +15,8 @@
 
 #include "opt/experiment_capture.h"
 #include "plan/terms.h"
+#include "scene/mitsuba_xml.h"
+#include "scene/mitsuba_xml_document.h"
 #include "scene/scene_values.h"
 #include "scene/scan.h"
 #include "scene/scene_view.h"
@@ -66,7 +68,8 @@ JsonValue absentField(const JsonObject& object, std::string_view key) {
 
 class ExperimentParser {
  public:
-  ExperimentParser(std::string file, fs::path baseDir) : m_file(std::move(file)), m_baseDir(std::move(baseDir)) {}
+  ExperimentParser(std::string file, fs::path baseDir, SceneDefines defines)
+      : m_file(std::move(file)), m_baseDir(std::move(baseDir)), m_defines(std::move(defines)) {}
 
   Experiment parse(const Json& json) {
     m_x.source = m_file;
@@ -102,14 +105,47 @@ class ExperimentParser {
   }
 
  private:
+  // "scene.json", or {"file": "scene.xml", "defines": {"name": "value", ...}, "parameters": [...]}
+  // for a Mitsuba XML scene's $name values (numbers and booleans are written as JSON writes them)
+  // and the parameters of a scene format that declares none (XML, glTF), in the JSON scene's form.
   void loadSceneField(const JsonValue& field) {
-    const std::string path = field.string();
-    if (path.empty()) field.fail("empty path: name the scene file (relative to this file's folder)");
+    JsonValue fileField = field;
+    std::optional<JsonValue> parameters;
+    if (field.json().is_object()) {
+      const JsonObject o(field, {"file", "defines", "parameters"});
+      fileField = o.field("file");
+      if (o.has("parameters")) parameters = o.field("parameters");
+      if (o.has("defines")) {
+        const JsonValue defines = o.field("defines");
+        if (!defines.json().is_object()) defines.fail("wrong type: expected an object mapping parameter names to values");
+        for (const auto& item : defines.json().items()) {
+          const JsonValue entry{&item.value(), m_file, defines.path + "." + item.key()};
+          if (!isValidDefineName(item.key())) entry.fail("a parameter name uses only letters, digits and '_'");
+          if (entry.json().is_string()) m_x.sceneDefines[item.key()] = entry.json().get<std::string>();
+          else if (entry.json().is_number() || entry.json().is_boolean()) m_x.sceneDefines[item.key()] = entry.json().dump();
+          else entry.fail("wrong type: expected a string, a number or a boolean");
+        }
+      }
+    }
+    for (const auto& [name, value] : m_defines) m_x.sceneDefines[name] = value;
+    const std::string path = fileField.string();
+    if (path.empty()) fileField.fail("empty path: name the scene file (relative to this file's folder)");
     m_x.scenePath = m_baseDir / path;
     try {
-      m_x.scene = loadScene(m_x.scenePath);
+      if (isMitsubaXmlPath(m_x.scenePath)) {
+        MitsubaScene loaded = loadMitsubaXml(m_x.scenePath, m_x.sceneDefines);
+        m_x.scene = std::move(loaded.scene);
+        m_sceneCapture = std::move(loaded.capture);
+      } else {
+        m_x.scene = loadScene(m_x.scenePath, m_x.sceneDefines);
+      }
     } catch (const Error& e) {
-      field.fail(e.what());
+      fileField.fail(e.what());
+    }
+    if (parameters) {
+      if (lowerExtension(m_x.scenePath) == ".json")
+        parameters->fail("a JSON scene declares its parameters in its own file (\"parameters\" there)");
+      m_x.scene = withParameters(std::move(m_x.scene), *parameters);
     }
     const Scene& scene = m_x.scene;
     m_parameterIndex.reserve(scene.parameters.size());
@@ -158,6 +194,14 @@ class ExperimentParser {
     if (o.has("view")) target.view = parseSceneView(o.field("view"), m_x.scene);
     target.gate = o.has("gate") ? parseGateValue(o.field("gate")) : m_x.scene.gate;
     parseImage(o.field("image"), m_x.targets.size(), target);
+    // A Mitsuba XML capture (nlos_capture_meter) is the scene's own scan: a target without a view
+    // or a scan measures it, as `vktg render` of the file renders it.
+    if (!o.has("scan") && !o.has("view") && m_sceneCapture) {
+      if (!names.insert(target.name).second) nameWhere.fail("duplicate target name " + inQuotes(target.name));
+      addScanTargets(target, m_sceneCapture->views, m_sceneCapture->columns, m_sceneCapture->rows, m_sceneCapture->grid,
+                     nameWhere, names);
+      return;
+    }
     if (!o.has("scan")) {
       addTarget(std::move(target), nameWhere, names);
       return;
@@ -629,7 +673,9 @@ class ExperimentParser {
 
   std::string m_file;
   fs::path m_baseDir;
+  SceneDefines m_defines;  // -D: over the file's own
   Experiment m_x;
+  std::optional<Scan> m_sceneCapture;  // a Mitsuba XML scene's nlos_capture_meter scan
   std::unordered_map<std::string, uint32_t> m_parameterIndex;  // scene parameter name -> index
   std::unordered_map<std::string, uint32_t> m_shapeIndex;      // shape name -> index
   std::vector<size_t> m_selectedBy;  // per scene parameter: the "parameters" entry that selected it
@@ -639,15 +685,16 @@ class ExperimentParser {
 
 }  // namespace
 
-Experiment parseExperimentJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir) {
+Experiment parseExperimentJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir,
+                               const SceneDefines& defines) {
   const Json json = parseJsonText(text, file);
-  Experiment experiment = ExperimentParser(file, baseDir).parse(json);
+  Experiment experiment = ExperimentParser(file, baseDir, defines).parse(json);
   experiment.text = text;
   return experiment;
 }
 
-Experiment loadExperiment(const std::filesystem::path& path) {
-  Experiment experiment = parseExperimentJson(readTextFile(path), path.string(), path.parent_path());
+Experiment loadExperiment(const std::filesystem::path& path, const SceneDefines& defines) {
+  Experiment experiment = parseExperimentJson(readTextFile(path), path.string(), path.parent_path(), defines);
   experiment.source = path;
   return experiment;
 }

@@ -135,6 +135,7 @@ struct Experiment {
   std::filesystem::path source;     // the experiment file
   std::string text;                 // its contents (copied into the run directory)
   std::filesystem::path scenePath;
+  SceneDefines sceneDefines;        // a Mitsuba XML scene's $name values: the file's "defines", then -D
   Scene scene;
   std::vector<ExperimentParameter> parameters;
   std::vector<Target> targets;
@@ -149,8 +150,10 @@ struct Experiment {
   uint32_t seed = 0;                // random numbers of iteration i are keyed by (seed, i)
 };
 
-Experiment loadExperiment(const std::filesystem::path& path);
-Experiment parseExperimentJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir);
+// `defines` (`vktg optimize -D`) override the "defines" of the experiment's "scene".
+Experiment loadExperiment(const std::filesystem::path& path, const SceneDefines& defines = {});
+Experiment parseExperimentJson(const std::string& text, const std::string& file, const std::filesystem::path& baseDir,
+                               const SceneDefines& defines = {});
 
 // The scene seen from a target: its camera pose and point lights moved as the view says, and the
 // target's gate.

@@ -84,6 +84,7 @@ void writeRunInfo(const fs::path& directory, const RunInfo& info) {
   nlohmann::json j;
   j["experiment"] = fs::absolute(info.experiment).lexically_normal().string();
   j["memory_budget"] = info.memoryBudget;
+  if (!info.defines.empty()) j["defines"] = info.defines;
   if (info.pilotDone)
     j["term_pilot"] = {{"spp_edge", info.pilotSppEdge},
                        {"spp_boundary", info.pilotSppBoundary},
@@ -98,6 +99,7 @@ RunInfo readRunInfo(const fs::path& directory) {
     nlohmann::json j = nlohmann::json::parse(readText(path));
     info.experiment = j.at("experiment").get<std::string>();
     info.memoryBudget = j.at("memory_budget").get<uint64_t>();
+    if (j.contains("defines")) info.defines = j.at("defines").get<SceneDefines>();
     if (j.contains("term_pilot")) {
       info.pilotSppEdge = j.at("term_pilot").at("spp_edge").get<double>();
       info.pilotSppBoundary = j.at("term_pilot").at("spp_boundary").get<double>();

@@ -17,6 +17,7 @@ namespace vktg {
 struct RunInfo {
   std::filesystem::path experiment;
   uint64_t memoryBudget = 0;
+  SceneDefines defines;  // `vktg optimize -D`: a resumed run loads its scene with the same
   // Samples of the edge and path-length-boundary terms that the term pilot chose ("spp_edge",
   // "spp_boundary" or "spp_boundary_camera": "auto"; 0 where it has not run or the term keeps the
   // experiment's): measured once, so that a resumed run uses the original's.

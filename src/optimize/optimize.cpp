@@ -302,12 +302,12 @@ Optimization::Impl::Impl(VulkanContext& c, const OptimizeOptions& o)
       info = readRunInfo(run);
       std::ifstream copy(run / "experiment.json", std::ios::binary);
       std::string text((std::istreambuf_iterator<char>(copy)), std::istreambuf_iterator<char>());
-      e = parseExperimentJson(text, (run / "experiment.json").string(), info.experiment.parent_path());
+      e = parseExperimentJson(text, (run / "experiment.json").string(), info.experiment.parent_path(), info.defines);
       checkpoint = readCheckpoint(run / "checkpoint.bin");
       checkCheckpointMatches(run / "checkpoint.bin", checkpoint, e);
     } else {
-      e = loadExperiment(options.experiment);
-      info = {options.experiment, options.memoryBudget};
+      e = loadExperiment(options.experiment, options.defines);
+      info = {options.experiment, options.memoryBudget, options.defines};
     }
     if (options.iterations) e.stop.iterations = *options.iterations;
     // Target images from files are read (and checked against their view and gate) here, once: a

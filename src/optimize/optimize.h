@@ -29,6 +29,7 @@ struct OptimizeOptions {
   bool force = false;                  // replace an existing run directory
   uint64_t memoryBudget = 0;  // 0: the device's default
   std::optional<uint32_t> iterations;  // overrides the experiment's stop.iterations
+  SceneDefines defines;                // a Mitsuba XML scene's $name values over the experiment's (a new run only)
   std::function<void(const std::string&)> progress;  // one line per iteration (and a few more)
   bool explain = false;                // print the render and gradient plans once
   // The processes the run is spread over (`mpirun`, docs/mpi.md): each renders its share of the

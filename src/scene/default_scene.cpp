@@ -1,5 +1,6 @@
 // The built-in default scene: a Cornell-box-like room seen by a box-gated time-of-flight camera.
-// scenes/cornell_box.json describes the same scene (a test checks that they agree).
+// scenes/cornell_box.json and scenes/default_room.xml (Mitsuba 3) describe the same scene (tests
+// check that they agree).
 #include "scene/primitives.h"
 #include "vktg/scene.h"
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -86,6 +87,19 @@ TriangleMesh makeIcosphere(uint32_t subdivisions) {
     }
     mesh.triangles = std::move(finer);
   }
+  return mesh;
+}
+
+TriangleMesh makeDisk(uint32_t segments) {
+  TriangleMesh mesh;
+  mesh.positions.reserve(size_t(segments) + 1);
+  mesh.positions.emplace_back(0.0f, 0.0f, 0.0f);
+  for (uint32_t k = 0; k < segments; ++k) {
+    const double angle = 2.0 * std::numbers::pi * double(k) / double(segments);
+    mesh.positions.emplace_back(float(std::cos(angle)), float(std::sin(angle)), 0.0f);
+  }
+  // Centre, rim k, rim k + 1 turn counter-clockwise seen from +z.
+  for (uint32_t k = 0; k < segments; ++k) mesh.triangles.emplace_back(0u, 1u + k, 1u + (k + 1) % segments);
   return mesh;
 }
 

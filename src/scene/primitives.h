@@ -22,6 +22,10 @@ TriangleMesh makeCube();
 // `subdivisions` times (20 * 4^s triangles, vertices shared and projected onto the sphere);
 // front faces outward.
 TriangleMesh makeIcosphere(uint32_t subdivisions);
+// Disk inscribed in the unit circle of the xy-plane: a fan of `segments` triangles (at least 3)
+// around a centre vertex, rim vertex k at angle 2 pi k / segments from +x; front face +z. Area
+// segments/2 * sin(2 pi / segments), slightly below pi.
+TriangleMesh makeDisk(uint32_t segments);
 // Grid of nx * nz vertices in the xz-plane centred at the origin, spanning sizeX * sizeZ, with
 // vertex (i, j) at x = -sizeX/2 + i*sizeX/(nx-1), z = -sizeZ/2 + j*sizeZ/(nz-1),
 // y = heights[j * nx + i]; front face +y. Requires nx, nz >= 2 and heights.size() == nx * nz.

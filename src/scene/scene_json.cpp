@@ -8,6 +8,7 @@
 #include <set>
 
 #include "scene/mesh_files.h"
+#include "scene/mitsuba_xml.h"
 #include "scene/primitives.h"
 #include "scene/scene_values.h"
 #include "vktg/error.h"
@@ -18,13 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// ".GLB" and ".glb" name the same format.
-std::string lowerExtension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
-
 constexpr uint32_t kSceneVersion = 1;
 constexpr uint32_t kMaxResolution = 16384;
 constexpr uint32_t kMaxSphereSubdivisions = 8;  // 20 * 4^8 = 1.3M triangles
@@ -33,6 +27,18 @@ constexpr uint32_t kMaxHeightfieldResolution = 4096;
 class SceneParser {
  public:
   SceneParser(std::string file, fs::path baseDir) : m_file(std::move(file)), m_baseDir(std::move(baseDir)) {}
+
+  // Parameters given outside a scene's own file (an experiment's, for a scene format that has none)
+  // bind to `scene`'s shapes, lights and materials as a JSON scene's own would.
+  Scene addParameters(Scene scene, const JsonValue& parameters) {
+    m_file = parameters.file;
+    m_scene = std::move(scene);
+    for (size_t m = 0; m < m_scene.materials.size(); ++m) m_materials.emplace(m_scene.materials[m].name, uint32_t(m));
+    for (const Parameter& p : m_scene.parameters) m_parameterNames.insert(p.name);
+    for (size_t i = 0; i < parameters.array().size(); ++i) parseParameter(parameters.element(i));
+    applyValues();
+    return std::move(m_scene);
+  }
 
   Scene parse(const Json& json) {
     m_scene.source = m_file;
@@ -487,11 +493,24 @@ Scene parseSceneJson(const std::string& text, const std::string& file, const std
   return SceneParser(file, baseDir).parse(json);
 }
 
-Scene loadScene(const std::filesystem::path& path) {
+std::string lowerExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+Scene withParameters(Scene scene, const JsonValue& parameters) {
+  return SceneParser(parameters.file, {}).addParameters(std::move(scene), parameters);
+}
+
+Scene loadScene(const std::filesystem::path& path, const SceneDefines& defines) {
   const std::string ext = lowerExtension(path);
+  if (ext == ".xml") return loadMitsubaScene(path, defines);
+  if (!defines.empty())
+    fail(path.string(), "-D " + defines.begin()->first, "defines apply to Mitsuba XML scenes only (this is a " + ext + " file)");
   if (ext == ".gltf" || ext == ".glb") return loadGltfScene(path);
   if (ext != ".json")
-    fail(path.string(), "", "unknown scene file extension \"" + ext + "\" (expected .json, .gltf or .glb)");
+    fail(path.string(), "", "unknown scene file extension \"" + ext + "\" (expected .json, .xml, .gltf or .glb)");
   Scene scene = parseSceneJson(readTextFile(path), path.string(), path.parent_path());
   scene.source = path;
   return scene;

@@ -66,6 +66,14 @@ class JsonObject {
   JsonValue m_self;
 };
 
+// A file's extension in lower case: ".GLB" and ".glb" name the same format.
+std::string lowerExtension(const std::filesystem::path& path);
+
+// `scene` with the parameters of a JSON array in the scene format's form ("Parameters" in
+// docs/scene-format.md) added after its own, bound to its shapes, lights and materials by name;
+// errors name the array's file and path.
+Scene withParameters(Scene scene, const JsonValue& parameters);
+
 // Range checks that name the field on failure.
 void requireInRange(const JsonValue& where, double value, double lo, double hi);  // lo <= v <= hi
 void requireAbove(const JsonValue& where, double value, double lo);               // v > lo
