@@ -109,7 +109,8 @@ class Gate:
 
 
 class Scene:
-    """A scene file (.json, .gltf, .glb) and a value for each of its parameters, 0 as written.
+    """A scene file (.json, .gltf, .glb, or Mitsuba XML .xml at its defaults) and a value for each
+    of its parameters, 0 as written.
 
     ``scene["name"]`` reads and sets one value; :meth:`values` and :meth:`set_values` several.
     """
