@@ -15,6 +15,7 @@
 #include "opt/run_directory.h"
 #include "optimize/optimize.h"
 #include "support/cli_runner.h"
+#include "support/experiment_run.h"
 #include "support/gpu_context.h"
 #include "vktg/image_io.h"
 
@@ -30,17 +31,6 @@ const fs::path kExperiment = fs::path(VKTG_SOURCE_DIR) / "experiments" / "confoc
 json readJson(const fs::path& path) {
   std::ifstream stream(path);
   return json::parse(stream);
-}
-
-bool sameBits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
-}
-
-OptimizeOptions optionsFor(const fs::path& experiment, const fs::path& out) {
-  OptimizeOptions o;
-  o.experiment = experiment;
-  o.runDirectory = out;
-  return o;
 }
 
 TEST(OptimizeCaptureTarget, ARenderedCaptureIsTheTargetItsExrIs) {
@@ -63,15 +53,15 @@ TEST(OptimizeCaptureTarget, ARenderedCaptureIsTheTargetItsExrIs) {
   test::writeJsonFile(dir / "exr.json", exr);
   test::writeJsonFile(dir / "capture.json", capture);
 
-  Optimization fromExr(test::testContext(), optionsFor(dir / "exr.json", dir / "exr_run"));
+  Optimization fromExr(test::testContext(), test::optimizeOptions(dir / "exr.json", dir / "exr_run"));
   const Evaluation a = fromExr.evaluate();
-  Optimization fromCapture(test::testContext(), optionsFor(dir / "capture.json", dir / "capture_run"));
+  Optimization fromCapture(test::testContext(), test::optimizeOptions(dir / "capture.json", dir / "capture_run"));
   const Evaluation b = fromCapture.evaluate();
   ASSERT_EQ(a.targetLosses.size(), 9u);
   EXPECT_EQ(b.targetLosses, a.targetLosses);
   EXPECT_EQ(b.loss, a.loss);
   EXPECT_GT(a.loss, 0);
-  EXPECT_TRUE(sameBits(b.gradient.theta, a.gradient.theta)) << "the gradients differ";
+  EXPECT_TRUE(test::sameBits(b.gradient.theta, a.gradient.theta)) << "the gradients differ";
   EXPECT_GT(std::abs(std::accumulate(a.gradient.theta.begin(), a.gradient.theta.end(), 0.0)), 0) << "a zero gradient proves nothing";
 }
 
@@ -152,7 +142,7 @@ TEST(OptimizeCaptureTarget, ConfocalReconstructionFitsATalCapture) {
   experiment["optimizer"]["schedule"].erase("warmup");
   experiment["stop"]["iterations"] = 12;
   test::writeJsonFile(dir / "experiment.json", experiment);
-  optimize(test::testContext(), optionsFor(dir / "experiment.json", dir / "run"));
+  optimize(test::testContext(), test::optimizeOptions(dir / "experiment.json", dir / "run"));
   const std::vector<double> loss = readLogColumns(dir / "run" / "log.csv").at("loss");
   ASSERT_EQ(loss.size(), 12u);
   const double first = (loss[0] + loss[1] + loss[2]) / 3, last = (loss[9] + loss[10] + loss[11]) / 3;

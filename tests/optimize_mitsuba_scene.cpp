@@ -13,6 +13,7 @@
 
 #include "optimize/optimize.h"
 #include "support/cli_runner.h"
+#include "support/experiment_run.h"
 #include "support/gpu_context.h"
 
 namespace vktg {
@@ -31,17 +32,6 @@ json sceneObject() {
           {"parameters", {{{"name", "hidden_y"}, {"type", "translate"}, {"shape", "hidden"}, {"axis", {0, 1, 0}}}}}};
 }
 
-bool sameBits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
-}
-
-OptimizeOptions optionsFor(const fs::path& experiment, const fs::path& out) {
-  OptimizeOptions o;
-  o.experiment = experiment;
-  o.runDirectory = out;
-  return o;
-}
-
 TEST(OptimizeMitsubaScene, TheMetersScanIsTheTargetItsRenderedCaptureIs) {
   TempDir dir;
   for (const char* out : {"cube.exr", "cube.hdf5"})
@@ -57,15 +47,15 @@ TEST(OptimizeMitsubaScene, TheMetersScanIsTheTargetItsRenderedCaptureIs) {
   test::writeJsonFile(dir / "own.json", own);
   test::writeJsonFile(dir / "capture.json", capture);
 
-  Optimization fromScan(test::testContext(), optionsFor(dir / "own.json", dir / "own_run"));
+  Optimization fromScan(test::testContext(), test::optimizeOptions(dir / "own.json", dir / "own_run"));
   const Evaluation a = fromScan.evaluate();
-  Optimization fromCapture(test::testContext(), optionsFor(dir / "capture.json", dir / "capture_run"));
+  Optimization fromCapture(test::testContext(), test::optimizeOptions(dir / "capture.json", dir / "capture_run"));
   const Evaluation b = fromCapture.evaluate();
   ASSERT_EQ(a.targetLosses.size(), 16u) << "one target per wall point of the 4 x 4 grid";
   EXPECT_EQ(b.targetLosses, a.targetLosses);
   EXPECT_GT(a.loss, 0);
   ASSERT_EQ(a.gradient.theta.size(), 1u);
-  EXPECT_TRUE(sameBits(b.gradient.theta, a.gradient.theta)) << a.gradient.theta[0] << " vs " << b.gradient.theta[0];
+  EXPECT_TRUE(test::sameBits(b.gradient.theta, a.gradient.theta)) << a.gradient.theta[0] << " vs " << b.gradient.theta[0];
   // Raised 4 cm towards the wall, every path is shorter than the target's: the loss falls as the
   // object moves back down.
   EXPECT_GT(a.gradient.theta[0], 0) << "a zero or wrongly signed gradient";

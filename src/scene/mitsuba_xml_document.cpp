@@ -6,7 +6,6 @@
 
 #include <pugixml.hpp>
 
-#include "scene/mesh_reading.h"
 #include "scene/scene_values.h"
 #include "vktg/error.h"
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 
 #include "optimize/optimize.h"
 #include "opt/run_directory.h"
@@ -10,6 +11,17 @@
 #include <gtest/gtest.h>
 
 namespace vktg::test {
+
+OptimizeOptions optimizeOptions(const std::filesystem::path& experiment, const std::filesystem::path& out) {
+  OptimizeOptions o;
+  o.experiment = experiment;
+  o.runDirectory = out;
+  return o;
+}
+
+bool sameBits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
 
 std::vector<double> experimentParameterErrors(const std::filesystem::path& experiment, const std::filesystem::path& out,
                                               uint32_t iterations) {

@@ -5,7 +5,15 @@
 #include <filesystem>
 #include <vector>
 
+#include "optimize/optimize.h"
+
 namespace vktg::test {
+
+// What `vktg optimize EXPERIMENT --out OUT` passes to vktg::optimize and Optimization.
+OptimizeOptions optimizeOptions(const std::filesystem::path& experiment, const std::filesystem::path& out);
+
+// Whether two runs' numbers are the same bits (not merely equal: -0 and 0 differ, NaNs compare).
+bool sameBits(const std::vector<double>& a, const std::vector<double>& b);
 
 // Runs `experiment` for `iterations` into `out` and returns log.csv's parameter_error column.
 std::vector<double> experimentParameterErrors(const std::filesystem::path& experiment, const std::filesystem::path& out,
