@@ -45,10 +45,15 @@ std::vector<std::string> onePointArgs(const std::vector<std::string>& command, u
   return args;
 }
 
+// One layer file of a run (relative to its run folder) and whether some of its pixels must be non-zero.
+struct LayerFile {
+  std::string suffix;
+  bool expectNonZero;
+};
+
 // Runs `command` (its scene inserted as the first argument) on the scan and at points 0 and 3 alone,
-// and compares every layer of `file` (relative to the run folder) pixel by pixel.
-void expectScanPixelsAreTheOnePointImages(const std::vector<std::string>& command, const std::string& file,
-                                          bool expectNonZero) {
+// and compares every layer of each file pixel by pixel.
+void expectScanPixelsAreTheOnePointImages(const std::vector<std::string>& command, const std::vector<LayerFile>& files) {
   TempDir dir;
   writeJsonFile(dir / "scan.json", gridScan());
   std::vector<std::string> scanArgs = command;
@@ -56,26 +61,35 @@ void expectScanPixelsAreTheOnePointImages(const std::vector<std::string>& comman
   for (const std::string& a : {std::string("--scan"), (dir / "scan.json").string(), std::string("--out"), (dir / "scan.exr").string()})
     scanArgs.push_back(a);
   runVktgOk(scanArgs, dir);
-  const ImageSet scan = readExr(dir / ("scan" + file));
-  ASSERT_EQ(scan.width, 2u);
-  ASSERT_EQ(scan.height, 2u);
-  ASSERT_FALSE(scan.layers.empty());
-  double magnitude = 0;
+  std::vector<ImageSet> scans;
+  for (const LayerFile& file : files) {
+    scans.push_back(readExr(dir / ("scan" + file.suffix)));
+    ASSERT_EQ(scans.back().width, 2u) << file.suffix;
+    ASSERT_EQ(scans.back().height, 2u) << file.suffix;
+    ASSERT_FALSE(scans.back().layers.empty()) << file.suffix;
+  }
+  std::vector<double> magnitudes(files.size(), 0.0);
   for (uint32_t k : {0u, 3u}) {
     std::vector<std::string> one = onePointArgs(command, k, dir);
     one.push_back("--out");
     one.push_back((dir / "point.exr").string());
     runVktgOk(one, dir);
-    const ImageSet alone = readExr(dir / ("point" + file));
-    ASSERT_EQ(alone.width * alone.height, 1u);
-    ASSERT_EQ(alone.layers.size(), scan.layers.size());
-    for (size_t l = 0; l < alone.layers.size(); ++l) {
-      EXPECT_EQ(scan.layers[l].name, alone.layers[l].name);
-      EXPECT_EQ(scan.layers[l].pixels[k], alone.layers[l].pixels[0]) << "point " << k << ", layer " << scan.layers[l].name;
-      magnitude += std::abs(alone.layers[l].pixels[0]);
+    for (size_t f = 0; f < files.size(); ++f) {
+      const ImageSet alone = readExr(dir / ("point" + files[f].suffix));
+      const ImageSet& scan = scans[f];
+      ASSERT_EQ(alone.width * alone.height, 1u) << files[f].suffix;
+      ASSERT_EQ(alone.layers.size(), scan.layers.size()) << files[f].suffix;
+      for (size_t l = 0; l < alone.layers.size(); ++l) {
+        EXPECT_EQ(scan.layers[l].name, alone.layers[l].name);
+        EXPECT_EQ(scan.layers[l].pixels[k], alone.layers[l].pixels[0])
+            << files[f].suffix << ", point " << k << ", layer " << scan.layers[l].name;
+        magnitudes[f] += std::abs(alone.layers[l].pixels[0]);
+      }
     }
   }
-  if (expectNonZero) EXPECT_GT(magnitude, 0) << "the heights below the points change their transients";
+  for (size_t f = 0; f < files.size(); ++f)
+    if (files[f].expectNonZero)
+      EXPECT_GT(magnitudes[f], 0) << files[f].suffix << ": the heights below the points change their transients";
 }
 
 const std::vector<std::string> kCommon = {"--spp", "256", "--seed", std::to_string(kSeed), "--nee", "standard"};
@@ -88,17 +102,15 @@ std::vector<std::string> command(std::vector<std::string> head) {
 TEST(CliGradScan, EveryTermOfAViewIsTheOnePointDerivative) {
   // h27 and h36 lie under the middle of the hidden surface, seen from every point of the grid.
   const std::vector<std::string> grad = command({"grad", "--param", "h27,h36", "--split-terms"});
-  expectScanPixelsAreTheOnePointImages(grad, ".exr", true);
-  expectScanPixelsAreTheOnePointImages(grad, ".interior.exr", true);
   // At a point sensor the first hit is a material point, so a border's own motion is the interior
   // term's and only what a silhouette uncovers behind it is the edge term's: nothing, here (zeros,
   // but the same ones).
-  expectScanPixelsAreTheOnePointImages(grad, ".edge.exr", false);
-  expectScanPixelsAreTheOnePointImages(grad, ".pathlength.exr", true);
+  expectScanPixelsAreTheOnePointImages(
+      grad, {{".exr", true}, {".interior.exr", true}, {".edge.exr", false}, {".pathlength.exr", true}});
 }
 
 TEST(CliGradScan, FiniteDifferencesOfAViewAreTheOnePointOnes) {
-  expectScanPixelsAreTheOnePointImages(command({"fd", "--param", "h27", "--eps", "0.01"}), ".exr", true);
+  expectScanPixelsAreTheOnePointImages(command({"fd", "--param", "h27", "--eps", "0.01"}), {{".exr", true}});
 }
 
 TEST(CliGradScan, AScanFileThatIsNoScanNamesItsFieldAndWritesNothing) {
