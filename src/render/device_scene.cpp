@@ -34,12 +34,12 @@ uint32_t groupsFor(uint64_t items, const VulkanContext& context, const char* wha
 // What the scene-update passes need besides the scene buffers.
 struct DeviceScene::UpdateResources {
   UpdateResources(VulkanContext& context, const ParameterModel& model)
-      : pipelines(context, kShaderRegistry,
-                  [&] {
-                    std::filesystem::path file = defaultPipelineCacheFile(context);
-                    return file.empty() ? file : file.concat("-update");
-                  }(),
-                  gpu::kUpdateBindingCount),
+      : pipelines(PassPipelines::shared(context, kShaderRegistry,
+                                        [&] {
+                                          std::filesystem::path file = defaultPipelineCacheFile(context);
+                                          return file.empty() ? file : file.concat("-update");
+                                        }(),
+                                        gpu::kUpdateBindingCount)),
         dummy(context, 256, MemoryKind::Device, "update.dummy"),
         frame(context, sizeof(gpu::FrameUniforms), MemoryKind::Device, "update.frame") {
     VertexOpTables tables = model.deviceTables();
@@ -52,7 +52,7 @@ struct DeviceScene::UpdateResources {
     parameterOps = deviceArray(context, tables.parameterOps, "update.parameterOps");
     theta = Buffer(context, std::max<size_t>(16, model.size() * sizeof(float)), MemoryKind::Device, "update.theta");
   }
-  PassPipelines pipelines;
+  std::shared_ptr<PassPipelines> pipelines;
   Buffer dummy, frame, basePositions, vertexOps, opList, parameterOps, theta, refitOrder, sahPartials;
   BvhRefitOrder levels;
 };
@@ -222,7 +222,7 @@ double DeviceScene::runUpdatePasses(bool moveGeometry, bool measureSah) {
     if (u.sahPartials.size() < bytes) u.sahPartials = Buffer(m_context, bytes, MemoryKind::Readback, "update.sahPartials");
     table.set(gpu::kUpdateBindingSahPartials, u.sahPartials);
   }
-  DescriptorSet set(m_context, u.pipelines, table, u.dummy);
+  DescriptorSet set(m_context, *u.pipelines, table, u.dummy);
   SpecValues spec{};
   spec[gpu::kSpecSingleChunk] = m_gpu->singleChunk() ? 1u : 0u;
   // kSpecSceneTexels stays 0: these passes write the nodes they read (refit_bvh).
@@ -232,17 +232,17 @@ double DeviceScene::runUpdatePasses(bool moveGeometry, bool measureSah) {
   if (moveGeometry && m_gpu->wideBvh()) passes.push_back({"refit_wide_bvh", spec});
   if (m_edgesBuilt) passes.push_back({"update_edges", spec});
   if (sumSah) passes.push_back({"bvh_sah_cost", spec});
-  u.pipelines.prepare(passes);
+  u.pipelines->prepare(passes);
   CommandBuffer cmdBuffer(m_context, "scene update");
   cmdBuffer.begin();
   VkCommandBuffer cmd = cmdBuffer.get();
   VkDescriptorSet ds = set.get();
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, u.pipelines.layout(), 0, 1, &ds, 0, nullptr);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, u.pipelines->layout(), 0, 1, &ds, 0, nullptr);
   auto dispatch = [&](const char* pass, uint32_t groups, glm::uvec4 push) {
     if (groups == 0) return;
     m_context.beginLabel(cmd, pass);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, u.pipelines.get(pass, spec));
-    vkCmdPushConstants(cmd, u.pipelines.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, u.pipelines->get(pass, spec));
+    vkCmdPushConstants(cmd, u.pipelines->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
     vkCmdDispatch(cmd, groups, 1, 1);
     m_context.endLabel(cmd);
     computeBarrier(cmd);

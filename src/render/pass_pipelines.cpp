@@ -107,7 +107,20 @@ VkShaderModule PassPipelines::module(const std::string& shader) {
   return it->second.get();
 }
 
+std::shared_ptr<PassPipelines> PassPipelines::shared(VulkanContext& context, const ShaderTable& shaders,
+                                                     const std::filesystem::path& cacheFile, uint32_t bindingCount) {
+  const std::string key = "pass-pipelines " + std::to_string(reinterpret_cast<uintptr_t>(&shaders)) + " " +
+                          std::to_string(bindingCount) + " " + cacheFile.string();
+  return context.shared<PassPipelines>(
+      key, [&] { return std::make_shared<PassPipelines>(context, shaders, cacheFile, bindingCount); });
+}
+
 void PassPipelines::prepare(const std::vector<std::pair<std::string, SpecValues>>& passes) {
+  std::lock_guard lock(m_mutex);
+  prepareLocked(passes);
+}
+
+void PassPipelines::prepareLocked(const std::vector<std::pair<std::string, SpecValues>>& passes) {
   std::vector<std::pair<std::string, SpecValues>> missing;
   for (const auto& key : passes)
     if (!m_pipelines.count(key) && std::find(missing.begin(), missing.end(), key) == missing.end()) missing.push_back(key);
@@ -168,9 +181,15 @@ void PassPipelines::prepare(const std::vector<std::pair<std::string, SpecValues>
   for (VkResult result : results) VKTG_VK_CHECK(result);
 }
 
+size_t PassPipelines::size() {
+  std::lock_guard lock(m_mutex);
+  return m_pipelines.size();
+}
+
 VkPipeline PassPipelines::get(const std::string& shader, const SpecValues& spec) {
+  std::lock_guard lock(m_mutex);
   auto key = std::make_pair(shader, spec);
-  if (auto it = m_pipelines.find(key); it == m_pipelines.end()) prepare({key});
+  if (auto it = m_pipelines.find(key); it == m_pipelines.end()) prepareLocked({key});
   return m_pipelines.at(key).get();
 }
 

@@ -4,11 +4,16 @@
 // add gpu::kTexelBindingCount uniform texel buffers from gpu::kFirstTexelBinding), compute
 // pipelines created on demand per (shader variant, specialisation constants), those a render needs
 // together (in parallel on a GPU), and descriptor sets.
-// Pipelines are cached on disk (VkPipelineCache) keyed by device, driver and vktg build.
+// Pipelines are cached on disk (VkPipelineCache) keyed by device, driver and vktg build, and in
+// memory for the context's lifetime (shared()): every renderer and scene update on one context
+// uses the same pipelines, so a process that renders many scenes (an optimisation's restarts, a
+// Python session, a benchmark) compiles each variant once. Thread-safe.
 #pragma once
 #include <array>
 #include <filesystem>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,6 +31,10 @@ class PassPipelines {
   PassPipelines(const VulkanContext& context, const ShaderTable& shaders, std::filesystem::path cacheFile = {},
                 uint32_t bindingCount = gpu::kBindingCount);
   ~PassPipelines();
+  // The context's one PassPipelines for this shader table, cache file and binding count.
+  static std::shared_ptr<PassPipelines> shared(VulkanContext& context, const ShaderTable& shaders,
+                                               const std::filesystem::path& cacheFile,
+                                               uint32_t bindingCount = gpu::kBindingCount);
   PassPipelines(const PassPipelines&) = delete;
   PassPipelines& operator=(const PassPipelines&) = delete;
 
@@ -38,8 +47,10 @@ class PassPipelines {
   VkPipelineLayout layout() const { return m_layout.get(); }
   VkDescriptorSetLayout setLayout() const { return m_setLayout.get(); }
   uint32_t bindingCount() const { return m_bindingCount; }
+  size_t size();  // pipelines created so far
 
  private:
+  void prepareLocked(const std::vector<std::pair<std::string, SpecValues>>& passes);
   VkShaderModule module(const std::string& shader);
   const VulkanContext& m_context;
   const ShaderTable& m_shaders;
@@ -50,6 +61,7 @@ class PassPipelines {
   PipelineCache m_cache;
   std::map<std::string, ShaderModule> m_modules;
   std::map<std::pair<std::string, SpecValues>, Pipeline> m_pipelines;
+  std::mutex m_mutex;  // over the maps: renderers on several threads may share this object
 };
 
 // What each binding of set 0 points at; unset bindings get a small dummy buffer.

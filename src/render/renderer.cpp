@@ -96,10 +96,10 @@ struct FrameResources {
 
 struct Renderer::Impl {
   explicit Impl(VulkanContext& c)
-      : context(c), pipelines(c, kShaderRegistry, defaultPipelineCacheFile(c)),
+      : context(c), pipelines(PassPipelines::shared(c, kShaderRegistry, defaultPipelineCacheFile(c))),
         dummy(c, 256, MemoryKind::Device, "dummy"), frameMemory(c, "frame state") {}
   VulkanContext& context;
-  PassPipelines pipelines;
+  std::shared_ptr<PassPipelines> pipelines;
   Buffer dummy;
   MemoryArena frameMemory;                // declared before `frame`, which it outlives
   std::unique_ptr<FrameResources> frame;
@@ -188,7 +188,7 @@ std::vector<glm::vec4> viewRecords(const std::vector<RenderView>& views, const R
 RenderResult Renderer::renderViews(DeviceScene& deviceScene, const RenderSetup& setup,
                                    const std::vector<RenderView>* views, const RenderOptions& options) {
   VulkanContext& context = m_impl->context;
-  PassPipelines& pipelines = m_impl->pipelines;
+  PassPipelines& pipelines = *m_impl->pipelines;
   const PreparedScene& prepared = deviceScene.prepared();
   const GpuScene& gpuScene = deviceScene.gpu();
   RenderResult result;

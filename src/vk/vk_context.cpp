@@ -305,7 +305,13 @@ VulkanContext::~VulkanContext() {
 }
 
 void VulkanContext::release() {
-  if (m_stuck) return;
+  if (m_stuck) {
+    // The device may still use the shared objects: they are kept to the end of the process.
+    static auto* keptForTheStuckDevice = new std::vector<std::map<std::string, std::shared_ptr<void>>>;
+    keptForTheStuckDevice->push_back(std::move(m_shared));
+    return;
+  }
+  m_shared.clear();
   if (m_device) {
     vkDeviceWaitIdle(m_device);
     if (m_commandPool) vkDestroyCommandPool(m_device, m_commandPool, nullptr);

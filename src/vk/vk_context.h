@@ -4,6 +4,9 @@
 #include <atomic>
 #include <cstdlib>
 #include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -114,6 +117,17 @@ class VulkanContext {
 
   static std::vector<DeviceReport> listDevices();
 
+  // The object stored under `key`, made by `make` the first time: objects that live as long as the
+  // device and serve everything created on it (the compiled pipelines every renderer of this context
+  // reuses: on lavapipe a renderer's pipelines take seconds to make). Destroyed before the device.
+  template <class T>
+  std::shared_ptr<T> shared(const std::string& key, const std::function<std::shared_ptr<T>()>& make) {
+    std::lock_guard lock(m_sharedMutex);
+    std::shared_ptr<void>& slot = m_shared[key];
+    if (!slot) slot = make();
+    return std::static_pointer_cast<T>(slot);
+  }
+
  private:
   void release();  // destroys whatever was created (also on a failed construction)
   static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
@@ -137,6 +151,8 @@ class VulkanContext {
   // A submission never finished: the device may still be using everything, so it is not waited
   // for or destroyed (the process ends with it).
   mutable bool m_stuck = false;
+  std::mutex m_sharedMutex;
+  std::map<std::string, std::shared_ptr<void>> m_shared;
   std::mutex m_messageMutex;
   std::vector<std::string> m_messages;
   std::atomic<uint64_t> m_messageCount{0};
