@@ -8,9 +8,8 @@ one without MPI included (docs/mpi.md, "From Python").
     mpirun -np 2 env PYTHONPATH=build/release/python python3 examples/python/mpi_gradients.py [--out FILE.npy]
 
 Every process opens its own vktg.Context (one device per process: the local rank picks among GPUs
-here; on a CPU they all share lavapipe). With torch.distributed the same holds: reduce the
-per-target parts by all_gather and a sum in a fixed order rather than all_reduce, whose order of
-additions depends on the number of processes.
+here; on a CPU they all share lavapipe). examples/python/torch_distributed.py does the same over
+torch.distributed with an all-reduce, exact because it sums the parts as 64-bit fixed point.
 """
 
 import json
