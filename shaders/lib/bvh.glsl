@@ -185,25 +185,6 @@ bool traceClosest(vec3 origin, vec3 dir, float tMin, float tMax, out HitRecord h
   return found;
 }
 
-// The closest hit among two given triangles (leaf order; ~0 for none) in (tMin, tMax), as
-// traceClosest reports it: the same test, tie rule and refinement, so that where one of them is
-// the scene's closest hit, the record is traceClosest's bit for bit.
-bool closestOfTriangles(uvec2 triangles, vec3 origin, vec3 dir, float tMin, float tMax, out HitRecord hit) {
-  vec3 invDir = safeInverse(dir);
-  uvec3 axes = shearAxes(dir);
-  bool found = false;
-  float tBest = tMax;
-  vec2 uv = vec2(0.0);
-  uint tri = 0u;
-  for (uint i = 0u; i < 2u; ++i)
-    if (triangles[i] != 0xffffffffu)
-      bvhTestLeaf(triangles[i], 1u, origin, dir, invDir, axes, tMin, tMax, false, found, tBest, uv, tri);
-  float t;
-  found = bvhFinishHit(found, false, origin, dir, tBest, tri, t);
-  hit = closestHitRecord(found, t, uv, tri);
-  return found;
-}
-
 // Whether anything blocks the ray in (tMin, tMax) (shadow rays).
 bool traceAny(vec3 origin, vec3 dir, float tMin, float tMax) {
   float t;

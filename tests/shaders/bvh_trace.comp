@@ -2,10 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Traces one ray per invocation through the uploaded scene's BVH (tests/gpu_bvh.cpp).
 // In  (8 words per ray):  origin xyz, dir xyz, tMin, tMax (float bits).
-// Out (9 words per ray):  traceClosest's t (-1 on a miss), u, v, triangle (uint, leaf order),
-//                         then traceAny (1 or 0), then closestOfTriangles' t, u, v, triangle for
-//                         traceClosest's triangle and the one before it in leaf order (a miss:
-//                         triangle 0 alone).
+// Out (5 words per ray):  traceClosest's t (-1 on a miss), u, v, triangle (uint, leaf order),
+//                         then traceAny (1 or 0).
 #include "lib/common.glsl"
 #include "lib/bindings.glsl"
 #include "test_io.glsl"
@@ -25,14 +23,10 @@ void main() {
   traceClosest(origin, dir, tMin, tMax, hit);
   bool any = traceAny(origin, dir, tMin, tMax);
   uint triangle = floatBitsToUint(hit.tuvTriangle.w);
-  uvec2 pair = hit.tuvTriangle.x >= 0.0 ? uvec2(triangle, triangle > 0u ? triangle - 1u : 0xffffffffu) : uvec2(0u, 0xffffffffu);
-  HitRecord ofPair;
-  closestOfTriangles(pair, origin, dir, tMin, tMax, ofPair);
-  uint o = 9u * i;
+  uint o = 5u * i;
   testOut[o] = floatBitsToUint(hit.tuvTriangle.x);
   testOut[o + 1u] = floatBitsToUint(hit.tuvTriangle.y);
   testOut[o + 2u] = floatBitsToUint(hit.tuvTriangle.z);
   testOut[o + 3u] = triangle;
   testOut[o + 4u] = any ? 1u : 0u;
-  for (uint k = 0u; k < 4u; ++k) testOut[o + 5u + k] = floatBitsToUint(ofPair.tuvTriangle[k]);
 }
