@@ -9,11 +9,12 @@
 //     sum +9.85 against the finite difference's -0.13 (32 x 32, 4096 samples);
 //  2. the box resting on the floor under an area light: its bottom edges lie on the floor, so every
 //     boundary segment through them ends on the floor at zero distance;
-//  3. a finely faceted black sphere 5 cm above an emitting floor (no light): only its outline
-//     moves anything. Next to the outline the camera sees faces nearly edge-on, narrower in the
-//     image than the offset of a ray beside an edge, and rays beside their creases that missed them
-//     counted the floor: 29% too much on each side of the outline at 20480 faces (sample_edges,
-//     faceBesideEdge).
+//  3. a finely faceted grey sphere 5 cm above an emitting floor, which lights it (no other light).
+//     Next to the outline the camera sees faces nearly edge-on, narrower in the image than the
+//     offset of a ray beside an edge, and rays beside their creases that missed them counted the
+//     floor (a black sphere: 29% too much on each side of the outline at 20480 faces); the faces
+//     beside its creases and its outline are now taken by name (sample_edges, faceBesideEdge),
+//     which the lit faces check, each side's face having its own radiance.
 // Image sums and 4 x 4 tiles are compared (a silhouette's pixel coverage has kinks where it crosses
 // pixel corners, which a finite difference averages over its step), each a t-test with the measured
 // standard errors of both sides, Sidak-corrected (alpha 1e-3) over the comparisons of a test.
@@ -89,11 +90,11 @@ TEST(GradContact, OutlineOfAFinelyFacetedSphereAgainstAnEmittingFloor) {
   const Scene scene = parseSceneJson(R"({"version": 1,
     "camera": {"type": "perspective", "position": [0, 1.6, 2.4], "look_at": [0, 0.2, 0], "fov_y": 40,
                "resolution": [16, 16]},
-    "materials": {"black": {"type": "diffuse", "albedo": 0}},
+    "materials": {"black": {"type": "diffuse", "albedo": 0}, "grey": {"type": "diffuse", "albedo": 0.5}},
     "shapes": [
       {"name": "floor", "type": "rectangle", "material": "black", "emission": 1,
        "transform": {"rotate": [-90, 0, 0], "scale": 2}},
-      {"name": "ball", "type": "sphere", "subdivisions": 5, "material": "black",
+      {"name": "ball", "type": "sphere", "subdivisions": 5, "material": "grey",
        "transform": {"translate": [0.35, 0.3, 0], "scale": 0.25}}],
     "parameters": [{"name": "ball_x", "type": "translate", "shape": "ball", "axis": [1, 0, 0]}],
     "render": {"spp": 256, "max_depth": 2, "seed": 5}})",
